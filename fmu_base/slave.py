@@ -1,0 +1,261 @@
+"""Base class shared by the toolkit's PythonFMU slaves (FMI 2.0 co-simulation).
+
+PythonFMU 0.7 handles one scalar at a time, saves only registered variables as state,
+serialises state with JSON and writes an incomplete ``ModelStructure``. This base class adds:
+
+* vector variables backed by numpy arrays, registered with FMI structured names
+  (``float.F[3]``), read and written in bulk by overridden ``get_real``/``set_real``;
+* lazy outputs: setting an input marks the outputs stale, the next ``get_real`` of an output
+  recomputes them once through :meth:`VectorSlave.update_outputs`;
+* full state (physics objects, integrator history) through deep copies, serialised with
+  pickle, so rollback and checkpoints restore everything, not only the registered variables;
+* a complete ``ModelStructure`` (``Outputs`` with their true input dependencies and every
+  ``InitialUnknown``) and units with ``UnitDefinitions``, so ``fmpy validate`` reports nothing.
+
+Physics lives in plain Python packages (``hydro_fmu``, ``mbd_fmu``); a slave only maps
+variables onto a physics object.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import pickle
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+from xml.etree.ElementTree import Element, SubElement
+
+import numpy as np
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu.enums import Fmi2Initial
+
+SPEC_FILE = "scene_spec.json"
+
+# SI base-unit exponents (kg, m, s, rad) of every unit used on our interfaces.
+_BASE_UNITS: dict[str, dict[str, int]] = {
+    "1": {},
+    "s": {"s": 1},
+    "Hz": {"s": -1},
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "rad": {"rad": 1},
+    "rad/s": {"rad": 1, "s": -1},
+    "rad/s2": {"rad": 1, "s": -2},
+    "kg": {"kg": 1},
+    "kg.m": {"kg": 1, "m": 1},
+    "kg.m2": {"kg": 1, "m": 2},
+    "kg/m3": {"kg": 1, "m": -3},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "N/m": {"kg": 1, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
+    "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
+    "W": {"kg": 1, "m": 2, "s": -3},
+    "J": {"kg": 1, "m": 2, "s": -2},
+}
+
+_CAUSALITY = {
+    "parameter": Fmi2Causality.parameter,
+    "calculatedParameter": Fmi2Causality.calculatedParameter,
+    "input": Fmi2Causality.input,
+    "output": Fmi2Causality.output,
+    "local": Fmi2Causality.local,
+}
+
+
+def load_spec(resources: str | Path | None) -> dict[str, Any]:
+    """Read the scene specification JSON that the builder placed in the FMU's resources."""
+    if resources is None:
+        raise RuntimeError("FMU instantiated without a resources folder; cannot find its scene spec")
+    path = Path(resources) / SPEC_FILE
+    if not path.is_file():
+        raise RuntimeError(f"scene specification {path} is missing from the FMU resources")
+    return json.loads(path.read_text())
+
+
+class VectorSlave(Fmi2Slave):
+    """PythonFMU slave whose Real variables are views of numpy arrays.
+
+    Subclasses register variables with :meth:`add_reals`, implement :meth:`update_outputs`
+    (fill the output arrays from the current inputs and state) and :meth:`do_step`, and list
+    in ``state_attributes`` every attribute that holds simulation state.
+    """
+
+    state_attributes: tuple[str, ...] = ()
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._slot: dict[int, tuple[np.ndarray, int]] = {}
+        self._input_vrs: list[int] = []
+        self._output_deps: dict[int, Sequence[str] | None] = {}
+        self._units: dict[str, str] = {}
+        self._arrays: dict[str, np.ndarray] = {}
+        self._outputs_stale = True
+        self._ready = False  # set by subclasses once the physics model exists
+
+    # ------------------------------------------------------------------ registration
+    def add_reals(
+        self,
+        key: str,
+        names: Sequence[str],
+        causality: str,
+        start: Sequence[float] | np.ndarray,
+        *,
+        unit: str | Sequence[str] = "1",
+        description: str = "",
+        depends_on: Sequence[str] | None = (),
+    ) -> np.ndarray:
+        """Register scalar Reals ``names`` backed by one array, returned (and kept under ``key``).
+
+        ``depends_on`` applies to outputs: the keys of the input arrays whose values feed the
+        outputs directly (direct feedthrough); ``()`` means none, ``None`` means all inputs.
+        ``unit`` is one unit for all names or one per name.
+        """
+        units = [unit] * len(names) if isinstance(unit, str) else list(unit)
+        for u in units:
+            if u not in _BASE_UNITS:
+                raise ValueError(f"unit {u!r} of {key} is not in the unit table")
+        values = np.array(start, dtype=float).reshape(len(names))
+        variability = {
+            "parameter": Fmi2Variability.fixed,
+            "calculatedParameter": Fmi2Variability.fixed,
+        }.get(causality, Fmi2Variability.continuous)
+        initial = Fmi2Initial.exact if causality in ("input", "parameter") else None
+        for i, name in enumerate(names):
+            var = Real(
+                name,
+                causality=_CAUSALITY[causality],
+                variability=variability,
+                initial=initial,
+                description=description or None,
+                getter=(lambda a=values, j=i: float(a[j])),
+                setter=(lambda v, a=values, j=i: a.__setitem__(j, v)),
+            )
+            self.register_variable(var)
+            self._slot[var.value_reference] = (values, i)
+            self._units[name] = units[i]
+            if causality == "input":
+                self._input_vrs.append(var.value_reference)
+            if causality == "output":
+                self._output_deps[var.value_reference] = depends_on
+        self._arrays[key] = values
+        return values
+
+    def array(self, key: str) -> np.ndarray:
+        return self._arrays[key]
+
+    # ------------------------------------------------------------------ physics hooks
+    def update_outputs(self) -> None:  # pragma: no cover - overridden
+        """Recompute every output array from the current inputs and state."""
+
+    # ------------------------------------------------------------------ bulk access
+    def get_real(self, vrs: list[int]) -> list[float]:
+        if self._outputs_stale and self._ready:
+            self.update_outputs()
+            self._outputs_stale = False
+        slot = self._slot
+        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        slot = self._slot
+        for vr, value in zip(vrs, values, strict=True):
+            array, index = slot[vr]
+            array[index] = value
+        self._outputs_stale = True
+
+    def mark_outputs_stale(self) -> None:
+        self._outputs_stale = True
+
+    # ------------------------------------------------------------------ state
+    def _get_fmu_state(self) -> dict[str, Any]:
+        return {
+            "arrays": {k: a.copy() for k, a in self._arrays.items()},
+            "attributes": {k: copy.deepcopy(getattr(self, k)) for k in self.state_attributes},
+        }
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        for key, values in state["arrays"].items():
+            self._arrays[key][:] = values
+        for key, value in state["attributes"].items():
+            setattr(self, key, copy.deepcopy(value))
+        self._outputs_stale = True
+
+    @staticmethod
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
+        return pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
+        return pickle.loads(state)
+
+    # ------------------------------------------------------------------ model description
+    def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
+        root = super().to_xml(model_options or {})
+        self._add_units(root)
+        self._write_model_structure(root)
+        return root
+
+    def _add_units(self, root: Element) -> None:
+        used = sorted(set(self._units.values()) - {"1"})
+        if used:
+            defs = Element("UnitDefinitions")
+            for unit in used:
+                node = SubElement(defs, "Unit", {"name": unit})
+                SubElement(node, "BaseUnit", {k: str(v) for k, v in _BASE_UNITS[unit].items()})
+            position = [child.tag for child in root].index("CoSimulation") + 1
+            root.insert(position, defs)
+        for node in root.find("ModelVariables"):
+            unit = self._units.get(node.get("name"), "1")
+            real = node.find("Real")
+            if unit != "1" and real is not None:
+                real.set("unit", unit)
+
+    def _write_model_structure(self, root: Element) -> None:
+        old = root.find("ModelStructure")
+        if old is not None:
+            root.remove(old)
+        structure = SubElement(root, "ModelStructure")
+        index_of = {vr: i + 1 for i, vr in enumerate(self.vars)}
+        inputs_by_key = {
+            key: [vr for vr in self._input_vrs if self._slot[vr][0] is array]
+            for key, array in self._arrays.items()
+        }
+
+        def deps(vr: int) -> str | None:
+            keys = self._output_deps[vr]
+            if keys is None:
+                return None
+            return " ".join(str(index_of[i]) for k in keys for i in inputs_by_key[k])
+
+        outputs = [vr for vr, v in self.vars.items() if v.causality == Fmi2Causality.output]
+        if outputs:
+            node = SubElement(structure, "Outputs")
+            for vr in outputs:
+                attrib = {"index": str(index_of[vr])}
+                d = deps(vr)
+                if d is not None:
+                    attrib["dependencies"] = d
+                SubElement(node, "Unknown", attrib)
+        initial = [
+            vr
+            for vr, v in self.vars.items()
+            if v.causality in (Fmi2Causality.output, Fmi2Causality.calculatedParameter)
+        ]
+        if initial:
+            node = SubElement(structure, "InitialUnknowns")
+            for vr in initial:
+                SubElement(node, "Unknown", {"index": str(index_of[vr])})
+
+
+def indexed_names(prefix: str, indices: Sequence[int]) -> list[str]:
+    """FMI structured names ``prefix[i]`` for the given 1-based indices."""
+    return [f"{prefix}[{i}]" for i in indices]
+
+
+def matrix_names(prefix: str, rows: Sequence[int], cols: Sequence[int]) -> list[str]:
+    """FMI structured names ``prefix[i,j]`` (row-major) for 1-based row and column indices."""
+    return [f"{prefix}[{i},{j}]" for i in rows for j in cols]
+

@@ -1,0 +1,15 @@
+"""Hydrodynamics of wave-energy converters: database, waves, excitation, radiation, hydrostatics.
+
+Plain Python physics (importable and testable without FMI) plus the thin FMU wrapper in
+:mod:`hydro_fmu.slave`. Layering, from data to forces:
+
+* :mod:`hydro_fmu.hdb` - the hydrodynamic database type; :mod:`hydro_fmu.bemio` - BEMIO HDF5;
+  :mod:`hydro_fmu.bem` - Capytaine front end with an on-disk cache;
+* :mod:`hydro_fmu.waves` - incident wave components and the ramp;
+* :mod:`hydro_fmu.excitation`, :mod:`hydro_fmu.radiation`, :mod:`hydro_fmu.hydrostatics` - forces;
+* :mod:`hydro_fmu.model` - the forces of one scene, as the FMU computes them.
+"""
+
+from .hdb import DOF_NAMES, HydroDatabase, HydroDatabaseError
+
+__all__ = ["DOF_NAMES", "HydroDatabase", "HydroDatabaseError"]

@@ -1,0 +1,261 @@
+"""Capytaine front end: body geometry -> hydrodynamic database, cached on disk by content hash.
+
+A body is a primitive (vertical cylinder, sphere, box) or a mesh file (anything Capytaine or
+meshio reads: ``.obj``, ``.stl``, ``.gdf``, ``.dat``...), placed in the world by a translation.
+The solver runs Capytaine 3.0's ``BEMSolver.fill_dataset`` over a frequency grid and the
+headings, plus one radiation solve at infinite frequency for A_inf, with a lid mesh on the
+waterplane to remove irregular frequencies. Rotation centres are the bodies' centres of
+gravity, so the database follows the BEMIO convention of :mod:`hydro_fmu.hdb`.
+
+Capytaine uses the ``exp(-i omega t)`` convention; excitation is conjugated on the way in.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .bemio import read_bemio, write_bemio
+from .hdb import HydroDatabase, HydroDatabaseError
+
+# Bump when the way a database is computed changes: invalidates every cached file.
+BEM_CACHE_VERSION = 1
+SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class BodyGeometry:
+    """Wetted shape of one body in body-local coordinates.
+
+    Attributes:
+        shape: ``vertical_cylinder`` (``radius``, ``draft``; local origin on the axis at the
+            waterline), ``sphere`` (``radius``; origin at the centre), ``box`` (``size`` =
+            length, width, height; origin at the centre) or ``mesh`` (``mesh_file``; the file's
+            own coordinates).
+        position: world coordinates (m) of the local origin.
+        panel_size: target panel edge (m) for primitives; ignored for mesh files.
+        lid: put a lid mesh on the waterplane of a surface-piercing body to remove irregular
+            frequencies (not needed for thin discs, whose irregular frequencies are very high).
+    """
+
+    shape: str
+    radius: float = 0.0
+    draft: float = 0.0
+    size: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mesh_file: str = ""
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    panel_size: float = 0.5
+    lid: bool = True
+
+    def __post_init__(self) -> None:
+        if self.shape not in SHAPES:
+            raise ValueError(f"unknown shape {self.shape!r}; expected one of {', '.join(SHAPES)}")
+
+
+@dataclass(frozen=True)
+class BemBody:
+    """A body for the BEM solver: name, geometry and centre of gravity (world, m)."""
+
+    name: str
+    geometry: BodyGeometry
+    cg: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class BemSettings:
+    """Frequency grid, headings and environment of a BEM run.
+
+    Attributes:
+        omega: wave frequencies (rad/s), strictly increasing.
+        headings_deg: wave headings (deg), 0 = waves towards +x.
+        rho, g, water_depth: kg/m^3, m/s^2, m (``inf`` for deep water).
+        method: Capytaine boundary-integral formulation, ``indirect`` or ``direct``.
+    """
+
+    omega: tuple[float, ...]
+    headings_deg: tuple[float, ...] = (0.0,)
+    rho: float = 1025.0
+    g: float = 9.81
+    water_depth: float = math.inf
+    method: str = "indirect"
+    extra: dict = field(default_factory=dict, compare=False)
+
+
+def frequency_grid(start: float, stop: float, step: float) -> tuple[float, ...]:
+    """Uniform grid ``start, start+step, ... <= stop`` (rad/s), rounded to 1e-12."""
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    return tuple(round(start + i * step, 12) for i in range(n))
+
+
+def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
+    """Hash of every input that changes the database (mesh file contents included)."""
+    import capytaine
+
+    items = []
+    for body in bodies:
+        item = asdict(body)
+        if body.geometry.shape == "mesh":
+            item["geometry"]["mesh_file"] = _file_digest(Path(body.geometry.mesh_file))
+        items.append(item)
+    settings_dict = asdict(settings)
+    settings_dict.pop("extra")
+    payload = {
+        "version": BEM_CACHE_VERSION,
+        "capytaine": ".".join(capytaine.__version__.split(".")[:2]),
+        "bodies": items,
+        "settings": settings_dict,
+    }
+    text = json.dumps(payload, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def cached_database(
+    bodies: list[BemBody],
+    settings: BemSettings,
+    cache_dir: str | Path,
+    *,
+    refresh: bool = False,
+) -> tuple[HydroDatabase, Path, bool]:
+    """The database for ``bodies``: from ``cache_dir`` if present, else computed and stored.
+
+    Returns ``(database, file, computed)``; ``computed`` is False on a cache hit.
+    """
+    key = cache_key(bodies, settings)
+    stem = "-".join(b.name for b in bodies)
+    path = Path(cache_dir) / f"{stem}-{key}.h5"
+    if path.is_file() and not refresh:
+        hdb = read_bemio(path)
+        return hdb, path, False
+    hdb = compute_database(bodies, settings)
+    write_bemio(hdb, path, code=hdb.source)
+    return read_bemio(path), path, True
+
+
+def compute_database(bodies: list[BemBody], settings: BemSettings) -> HydroDatabase:
+    """Run Capytaine for ``bodies`` (interaction included when several) and return the HDB."""
+    import capytaine as cpt
+    import xarray as xr
+
+    logging.getLogger("capytaine").setLevel(logging.ERROR)  # its per-frequency warnings flood the console
+    cpt_bodies = [_floating_body(b) for b in bodies]
+    system = cpt_bodies[0] if len(cpt_bodies) == 1 else cpt.Multibody(cpt_bodies)
+    dofs = list(system.dofs)
+    solver = cpt.BEMSolver(method=settings.method) if settings.method != "indirect" else cpt.BEMSolver()
+    common = {
+        "water_depth": [settings.water_depth],
+        "rho": [settings.rho],
+        "g": [settings.g],
+        "radiating_dof": dofs,
+        "influenced_dof": dofs,
+    }
+    omega = np.asarray(settings.omega, dtype=float)
+    headings = np.radians(np.asarray(settings.headings_deg, dtype=float))
+    test = xr.Dataset(coords={"omega": omega, "wave_direction": headings, **common})
+    ds = solver.fill_dataset(test, system, progress_bar=False)
+    ds_inf = solver.fill_dataset(xr.Dataset(coords={"omega": [np.inf], **common}), system, progress_bar=False)
+
+    def matrix(da: xr.DataArray) -> np.ndarray:
+        return da.transpose("omega", "influenced_dof", "radiating_dof").sel(
+            influenced_dof=dofs, radiating_dof=dofs).values.squeeze(axis=())
+
+    def forces(da: xr.DataArray) -> np.ndarray:
+        # Capytaine exp(-i w t) -> exp(+i w t): complex conjugate.
+        return np.conj(da.transpose("wave_direction", "omega", "influenced_dof").sel(influenced_dof=dofs).values)
+
+    stiffness = np.stack([
+        cb.compute_hydrostatic_stiffness(rho=settings.rho, g=settings.g).values for cb in cpt_bodies
+    ])
+    hdb = HydroDatabase(
+        body_names=[b.name for b in bodies],
+        omega=omega,
+        added_mass=matrix(ds["added_mass"]),
+        radiation_damping=matrix(ds["radiation_damping"]),
+        added_mass_inf=matrix(ds_inf["added_mass"])[0],
+        headings=headings,
+        excitation=forces(ds["excitation_force"]),
+        froude_krylov=forces(ds["Froude_Krylov_force"]),
+        diffraction=forces(ds["diffraction_force"]),
+        hydrostatic_stiffness=stiffness,
+        cg=np.array([b.cg for b in bodies], dtype=float),
+        cb=np.array([np.asarray(cb.center_of_buoyancy) for cb in cpt_bodies]),
+        displaced_volume=np.array([cb.volume for cb in cpt_bodies]),
+        rho=settings.rho,
+        g=settings.g,
+        water_depth=settings.water_depth,
+        source=f"Capytaine {cpt.__version__} ({settings.method}, "
+        + ", ".join(f"{b.name}: {cb.mesh.nb_faces} panels" for b, cb in zip(bodies, cpt_bodies, strict=True))
+        + ")",
+    )
+    return hdb
+
+
+def _floating_body(body: BemBody):
+    """Capytaine ``FloatingBody`` for one body: immersed mesh, lid, 6 rigid DOFs about its cg."""
+    import capytaine as cpt
+
+    mesh = _mesh(body.geometry)
+    immersed = mesh.immersed_part()
+    if immersed.nb_faces == 0:
+        raise HydroDatabaseError(f"body {body.name!r}: the mesh has no panel below the waterline z = 0")
+    lid = None
+    if body.geometry.lid and np.max(immersed.vertices[:, 2]) > -1e-6:  # surface-piercing: lid on the waterplane
+        lid = immersed.generate_lid(z=0.0, faces_max_radius=_lid_panel(body.geometry))
+    return cpt.FloatingBody(
+        mesh=immersed,
+        lid_mesh=lid,
+        dofs=cpt.rigid_body_dofs(rotation_center=body.cg),
+        center_of_mass=body.cg,
+        name=body.name,
+    )
+
+
+def _lid_panel(geometry: BodyGeometry) -> float:
+    return geometry.panel_size if geometry.shape != "mesh" else 1.0
+
+
+def _mesh(geometry: BodyGeometry):
+    import capytaine as cpt
+
+    g, ps = geometry, geometry.panel_size
+    if g.shape == "vertical_cylinder":
+        if g.radius <= 0 or g.draft <= 0:
+            raise HydroDatabaseError("vertical_cylinder needs a positive radius and draft")
+        n_theta = max(12, math.ceil(2 * math.pi * g.radius / ps))
+        n_z = max(2, math.ceil(g.draft / ps))
+        n_r = max(2, math.ceil(g.radius / ps))
+        mesh = cpt.mesh_vertical_cylinder(
+            length=2 * g.draft, radius=g.radius, center=(0.0, 0.0, 0.0), resolution=(n_r, n_theta, 2 * n_z)
+        )
+    elif g.shape == "sphere":
+        if g.radius <= 0:
+            raise HydroDatabaseError("sphere needs a positive radius")
+        n = max(8, math.ceil(math.pi * g.radius / ps))
+        mesh = cpt.mesh_sphere(radius=g.radius, center=(0.0, 0.0, 0.0), resolution=(n, 2 * n))
+    elif g.shape == "box":
+        if min(g.size) <= 0:
+            raise HydroDatabaseError("box needs three positive sizes (length, width, height)")
+        res = tuple(max(2, math.ceil(s / ps)) for s in g.size)
+        mesh = cpt.mesh_parallelepiped(size=tuple(g.size), center=(0.0, 0.0, 0.0), resolution=res)
+    else:
+        path = Path(g.mesh_file)
+        if not path.is_file():
+            raise HydroDatabaseError(f"mesh file {path} does not exist")
+        try:
+            mesh = cpt.load_mesh(str(path))
+        except Exception as exc:  # Capytaine/meshio raise many types for unreadable files
+            raise HydroDatabaseError(f"cannot read mesh file {path}: {exc}") from None
+    return mesh.translated(tuple(g.position))
+
+
+def _file_digest(path: Path) -> str:
+    if not path.is_file():
+        raise HydroDatabaseError(f"mesh file {path} does not exist")
+    return hashlib.sha256(path.read_bytes()).hexdigest()

@@ -1,0 +1,224 @@
+"""Read and write WEC-Sim BEMIO HDF5 files (the layout WEC-Sim and HydroChrono read).
+
+Layout, as seen from h5py (row-major; WEC-Sim's MATLAB writer produces the same index order):
+
+``/simulation_parameters``
+    ``w`` (Nw,) rad/s, ``T`` (Nw,) s, ``wave_dir`` (Nh,) deg, ``water_depth`` m (``inf`` for deep
+    water), ``rho`` kg/m^3, ``g`` m/s^2, ``scaled`` (0).
+``/bem_data/code``
+    name of the BEM code.
+``/body<i>/properties``
+    ``name``, ``body_number``, ``cg`` (3,), ``cb`` (3,), ``disp_vol``, ``dof`` (6),
+    ``dof_start``, ``dof_end`` (1-based rows of this body in the 6N system).
+``/body<i>/hydro_coeffs``
+    ``linear_restoring_stiffness`` (6, 6) / (rho g);
+    ``added_mass/all`` (6, 6N, Nw) / rho; ``added_mass/inf_freq`` (6, 6N) / rho;
+    ``radiation_damping/all`` (6, 6N, Nw) / (rho omega);
+    ``excitation/{re,im,mag,phase}`` (6, Nh, Nw) / (rho g), and the same under
+    ``excitation/froude-krylov`` and ``excitation/scattering``.
+
+Normalisations are those of WEC-Sim's ``normalizeBEM``; reading undoes them. Complex
+amplitudes use WEC-Sim's ``exp(+i omega t)`` convention, as :mod:`hydro_fmu.hdb` does.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from .hdb import HydroDatabase, HydroDatabaseError
+
+
+def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "") -> Path:
+    """Write ``hdb`` as a BEMIO HDF5 file; returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    rho, g, w = hdb.rho, hdb.g, hdb.omega
+    n = hdb.n_dofs
+    with h5py.File(path, "w") as f:
+        sp = f.create_group("simulation_parameters")
+        _dataset(sp, "w", w, "Wave frequencies", "rad/s")
+        _dataset(sp, "T", 2 * np.pi / w, "Wave periods", "s")
+        _dataset(sp, "wave_dir", np.degrees(hdb.headings), "Wave direction", "deg")
+        _dataset(sp, "water_depth", float(hdb.water_depth), "Water depth", "m")
+        _dataset(sp, "rho", float(rho), "Water density", "kg/m^3")
+        _dataset(sp, "g", float(g), "Gravitational acceleration", "m/s^2")
+        _dataset(sp, "scaled", 0, "0: coefficients normalised by rho, rho*omega and rho*g", "")
+        f.create_group("bem_data").create_dataset("code", data=code or hdb.source or "wec-cosim")
+        for b, name in enumerate(hdb.body_names):
+            rows = slice(6 * b, 6 * b + 6)
+            grp = f.create_group(f"body{b + 1}")
+            props = grp.create_group("properties")
+            props.create_dataset("name", data=name)
+            _dataset(props, "body_number", b + 1, "Number of rigid body from the BEM simulation", "")
+            _dataset(props, "cg", hdb.cg[b], "Center of gravity", "m")
+            _dataset(props, "cb", hdb.cb[b], "Center of buoyancy", "m")
+            _dataset(props, "disp_vol", float(hdb.displaced_volume[b]), "Displaced volume", "m^3")
+            _dataset(props, "dof", 6, "Degrees of freedom", "")
+            _dataset(props, "dof_start", 6 * b + 1, "First DOF of this body (1-based)", "")
+            _dataset(props, "dof_end", 6 * b + 6, "Last DOF of this body (1-based)", "")
+            hc = grp.create_group("hydro_coeffs")
+            _dataset(hc, "linear_restoring_stiffness", hdb.hydrostatic_stiffness[b] / (rho * g),
+                     "Hydrostatic stiffness matrix", "")
+            am = hc.create_group("added_mass")
+            _dataset(am, "all", np.transpose(hdb.added_mass[:, rows, :], (1, 2, 0)) / rho,
+                     "Added mass", "kg-m^2 (rotation); kg (translation)")
+            _dataset(am, "inf_freq", hdb.added_mass_inf[rows, :] / rho,
+                     "Infinite frequency added mass", "kg-m^2 (rotation); kg (translation)")
+            rd = hc.create_group("radiation_damping")
+            _dataset(rd, "all", np.transpose(hdb.radiation_damping[:, rows, :], (1, 2, 0)) / (rho * w),
+                     "Radiation damping", "N-s/m (translation); N-m-s/rad (rotation)")
+            ex = hc.create_group("excitation")
+            _write_complex(ex, hdb.excitation[:, :, rows], rho * g, "Excitation force")
+            if hdb.froude_krylov is not None:
+                _write_complex(ex.create_group("froude-krylov"), hdb.froude_krylov[:, :, rows], rho * g,
+                               "Froude-Krylov force")
+            if hdb.diffraction is not None:
+                _write_complex(ex.create_group("scattering"), hdb.diffraction[:, :, rows], rho * g,
+                               "Scattering (diffraction) force")
+        assert n == 6 * hdb.n_bodies
+    return path
+
+
+def read_bemio(path: str | Path) -> HydroDatabase:
+    """Read a BEMIO HDF5 file (written by WEC-Sim's BEMIO, HydroChrono tools or this package)."""
+    path = Path(path)
+    if not path.is_file():
+        raise HydroDatabaseError(f"hydrodynamic database file {path} does not exist")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise HydroDatabaseError(f"{path} is not a readable HDF5 file ({exc})") from None
+    with f:
+        return _read(f, path)
+
+
+def _read(f: h5py.File, path: Path) -> HydroDatabase:
+    def need(group: h5py.Group | h5py.File, key: str) -> np.ndarray:
+        if key not in group:
+            raise HydroDatabaseError(f"{path}: missing dataset {group.name.rstrip('/')}/{key} (BEMIO layout)")
+        return np.asarray(group[key][()])
+
+    sp = f["simulation_parameters"] if "simulation_parameters" in f else None
+    if sp is None:
+        raise HydroDatabaseError(f"{path}: no /simulation_parameters group; not a BEMIO file")
+    w = need(sp, "w").astype(float).ravel()
+    headings = np.radians(need(sp, "wave_dir").astype(float).ravel())
+    depth = _scalar(need(sp, "water_depth"))
+    rho = _scalar(need(sp, "rho")) if "rho" in sp else 1000.0
+    g = _scalar(need(sp, "g")) if "g" in sp else 9.81
+    bodies = sorted((k for k in f if k.startswith("body") and k[4:].isdigit()), key=lambda k: int(k[4:]))
+    if not bodies:
+        raise HydroDatabaseError(f"{path}: no /body<i> groups")
+    nb, nw, nh = len(bodies), len(w), len(headings)
+    n = 6 * nb
+    A = np.zeros((nw, n, n))
+    B = np.zeros((nw, n, n))
+    Ainf = np.zeros((n, n))
+    X = np.zeros((nh, nw, n), complex)
+    FK = np.zeros((nh, nw, n), complex)
+    DF = np.zeros((nh, nw, n), complex)
+    have_parts = True
+    C = np.zeros((nb, 6, 6))
+    cg, cb, vol, names = np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), []
+    for b, key in enumerate(bodies):
+        grp = f[key]
+        props, hc = grp["properties"], grp["hydro_coeffs"]
+        dof = int(_scalar(need(props, "dof"))) if "dof" in props else 6
+        if dof != 6:
+            raise HydroDatabaseError(
+                f"{path}: {key} has {dof} degrees of freedom; only rigid bodies (6) are supported"
+            )
+        name = need(props, "name")
+        name = name.item() if hasattr(name, "item") else name
+        name = name.decode() if isinstance(name, bytes) else str(name)
+        names.append(name if name not in names else f"{name}_{b + 1}")
+        cg[b] = need(props, "cg").ravel()[:3]
+        cb[b] = need(props, "cb").ravel()[:3]
+        vol[b] = _scalar(need(props, "disp_vol"))
+        rows = slice(6 * b, 6 * b + 6)
+        C[b] = _shaped(need(hc, "linear_restoring_stiffness"), (6, 6), path, f"{key} stiffness") * rho * g
+        A[:, rows, :] = np.transpose(
+            _shaped(need(hc["added_mass"], "all"), (6, n, nw), path, f"{key} added_mass/all"), (2, 0, 1)) * rho
+        Ainf[rows, :] = _shaped(need(hc["added_mass"], "inf_freq"), (6, n), path, f"{key} inf_freq") * rho
+        B[:, rows, :] = np.transpose(
+            _shaped(need(hc["radiation_damping"], "all"), (6, n, nw), path, f"{key} radiation_damping/all"),
+            (2, 0, 1)) * rho * w[:, None, None]
+        ex = hc["excitation"]
+        X[:, :, rows] = _read_complex(ex, path, key, (6, nh, nw)) * rho * g
+        if "froude-krylov" in ex and "scattering" in ex:
+            FK[:, :, rows] = _read_complex(ex["froude-krylov"], path, key, (6, nh, nw)) * rho * g
+            DF[:, :, rows] = _read_complex(ex["scattering"], path, key, (6, nh, nw)) * rho * g
+        else:
+            have_parts = False
+    order = np.argsort(w)
+    code = ""
+    if "bem_data" in f and "code" in f["bem_data"]:
+        raw = f["bem_data"]["code"][()]
+        code = raw.decode() if isinstance(raw, bytes) else str(raw)
+    return HydroDatabase(
+        body_names=names,
+        omega=w[order],
+        added_mass=A[order],
+        radiation_damping=B[order],
+        added_mass_inf=Ainf,
+        headings=headings,
+        excitation=X[:, order],
+        froude_krylov=FK[:, order] if have_parts else None,
+        diffraction=DF[:, order] if have_parts else None,
+        hydrostatic_stiffness=C,
+        cg=cg,
+        cb=cb,
+        displaced_volume=vol,
+        rho=rho,
+        g=g,
+        water_depth=float(depth),
+        source=f"{path}" + (f" ({code})" if code else ""),
+    )
+
+
+def _dataset(group: h5py.Group, name: str, data: object, description: str, unit: str) -> None:
+    ds = group.create_dataset(name, data=data)
+    ds.attrs["description"] = description
+    ds.attrs["unit"] = unit
+
+
+def _write_complex(group: h5py.Group, values: np.ndarray, scale: float, description: str) -> None:
+    """``values`` (Nh, Nw, 6) complex -> re/im/mag/phase datasets (6, Nh, Nw) divided by ``scale``."""
+    v = np.transpose(values, (2, 0, 1)) / scale
+    _dataset(group, "re", v.real, f"Real part of {description}", "")
+    _dataset(group, "im", v.imag, f"Imaginary part of {description}", "")
+    _dataset(group, "mag", np.abs(v), f"Magnitude of {description}", "")
+    _dataset(group, "phase", np.angle(v), f"Phase of {description}", "rad")
+
+
+def _read_complex(group: h5py.Group, path: Path, key: str, shape: tuple[int, int, int]) -> np.ndarray:
+    for part in ("re", "im"):
+        if part not in group:
+            raise HydroDatabaseError(f"{path}: missing {group.name}/{part}")
+    re = _shaped(np.asarray(group["re"][()]), shape, path, f"{group.name}/re")
+    im = _shaped(np.asarray(group["im"][()]), shape, path, f"{group.name}/im")
+    return np.transpose(re + 1j * im, (1, 2, 0))
+
+
+def _shaped(value: np.ndarray, shape: tuple[int, ...], path: Path, what: str) -> np.ndarray:
+    """``value`` with shape ``shape``; accepts the reversed order MATLAB writers sometimes leave."""
+    value = np.asarray(value, dtype=float)
+    if value.shape == shape:
+        return value
+    if value.shape == shape[::-1]:
+        return value.transpose()
+    if value.size == int(np.prod(shape)) and 1 in value.shape:
+        return value.reshape(shape)
+    raise HydroDatabaseError(f"{path}: {what} has shape {value.shape}, expected {shape}")
+
+
+def _scalar(value: np.ndarray) -> float:
+    arr = np.asarray(value)
+    if arr.dtype.kind in "SUO":
+        text = arr.ravel()[0]
+        text = text.decode() if isinstance(text, bytes) else str(text)
+        return float("inf") if text.strip().lower() in ("inf", "infinite") else float(text)
+    return float(arr.ravel()[0])

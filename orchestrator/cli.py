@@ -1,0 +1,128 @@
+"""``wec-cosim`` command line.
+
+    wec-cosim run SCENARIO [--out FILE] [--in-process]   time-domain co-simulation
+    wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
+    wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
+    wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
+
+User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
+status 2; nothing already computed is lost.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from hydro_fmu.hdb import HydroDatabaseError
+
+from .errors import WecCosimError
+
+
+def _scenario(path: str):
+    from .scenario import load_scenario
+
+    return load_scenario(path)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from .simulation import format_summary, run_scenario
+
+    scenario = _scenario(args.scenario)
+    if args.duration is not None:
+        scenario.simulation.duration = args.duration
+    result = run_scenario(scenario, args.out, in_process=args.in_process, progress=not args.quiet)
+    print(format_summary(result))
+    return 0
+
+
+def cmd_rao(args: argparse.Namespace) -> int:
+    from . import frequency_domain
+    from .scene import load_scene
+
+    scenario = _scenario(args.scenario)
+    scene = load_scene(scenario)
+    grid = scenario.rao.omega
+    omega = (np.arange(grid.start, grid.stop + grid.step / 2, grid.step) if grid else scene.hdb.omega)
+    fd = frequency_domain.solve(scene, omega)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with h5py.File(out, "w") as f:
+        f.create_dataset("omega", data=fd.omega).attrs["unit"] = "rad/s"
+        for b in scenario.bodies:
+            ds = f.create_dataset(f"bodies/{b.name}/rao", data=fd.body_rao(b.name))
+            ds.attrs["unit"] = "m/m (translations), rad/m (rotations); exp(+i omega t) convention"
+        for name, p in fd.pto_power.items():
+            f.create_dataset(f"ptos/{name}/mean_power", data=p).attrs["unit"] = "W/m^2"
+        f.attrs["scenario"] = scenario.text
+        f.attrs["scenario_file"] = str(scenario.file)
+    print(f"RAOs at {len(omega)} frequencies written to {out}")
+    return 0
+
+
+def cmd_hydro(args: argparse.Namespace) -> int:
+    from .scene import load_database
+
+    scenario = _scenario(args.scenario)
+    hdb, path = load_database(scenario, refresh=args.refresh)
+    print(f"{path}: {hdb.n_bodies} bodies, {len(hdb.omega)} frequencies "
+          f"{hdb.omega[0]:g}..{hdb.omega[-1]:g} rad/s, {len(hdb.headings)} headings ({hdb.source})")
+    return 0
+
+
+def cmd_build_fmus(args: argparse.Namespace) -> int:
+    from .fmu_builder import build_scene_fmus
+    from .scene import load_scene
+
+    scene = load_scene(_scenario(args.scenario))
+    fmus = build_scene_fmus(scene)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    for kind, path in fmus.items():
+        target = out / f"{scene.scenario.name}_{kind}.fmu"
+        shutil.copy(path, target)
+        print(f"{kind}: {target}")
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run a time-domain co-simulation")
+    r.add_argument("scenario")
+    r.add_argument("--out", help="results file (default from the scenario)")
+    r.add_argument("--duration", type=float, help="override simulation.duration (s)")
+    r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
+    r.add_argument("--quiet", action="store_true", help="no progress display")
+    r.set_defaults(func=cmd_run)
+    a = sub.add_parser("rao", help="linear frequency-domain response (RAOs, PTO power)")
+    a.add_argument("scenario")
+    a.add_argument("--out", required=True, help="output HDF5 file")
+    a.set_defaults(func=cmd_rao)
+    h = sub.add_parser("hydro", help="build or refresh the scenario's hydrodynamic database")
+    h.add_argument("scenario")
+    h.add_argument("--refresh", action="store_true", help="recompute even if cached")
+    h.set_defaults(func=cmd_hydro)
+    b = sub.add_parser("build-fmus", help="build the scenario's hydrodynamics and multibody FMUs")
+    b.add_argument("scenario")
+    b.add_argument("--out", default="fmus", help="folder for the FMUs (default ./fmus)")
+    b.set_defaults(func=cmd_build_fmus)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (WecCosimError, HydroDatabaseError) as exc:
+        print(f"wec-cosim {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,247 @@
+"""Co-simulation components: an FMU run through fmpy, or the same slave called in-process.
+
+Both expose one small interface to the masters (names resolved to value references once):
+
+* ``setup(t0)``, ``enter_initialization()``, ``exit_initialization()``, ``terminate()``;
+* ``set_reals(port, values)`` / ``get_reals(port)`` for a :class:`Port` made by ``port(names)``;
+* ``do_step(t, h)``; ``get_state()`` / ``set_state(s)`` / ``free_state(s)``, and
+  ``serialize_state(s)`` / ``deserialize_state(b)``;
+* ``feedthrough``: True if some output depends directly on some input (from the FMU's
+  ``ModelStructure``), which decides the order in which a master reads outputs.
+
+:class:`FmuComponent` goes through fmpy's ``FMU2Slave`` and the PythonFMU binary, exactly what a
+third-party FMI host does; :class:`InProcessComponent` calls the same slave object directly, so
+the difference between the two is the cost of the FMI interface itself.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import shutil
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Real,
+    fmi2ValueReference,
+)
+
+from .errors import MasterError
+
+
+@dataclass
+class Port:
+    """A fixed list of Real variables of one component, with buffers ready for bulk transfer."""
+
+    names: list[str]
+    vrs: list[int]
+    c_vrs: Any = None
+    c_values: Any = None
+    values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self) -> None:
+        n = len(self.vrs)
+        self.c_vrs = (fmi2ValueReference * n)(*self.vrs)
+        self.c_values = (fmi2Real * n)()
+        self.values = np.ctypeslib.as_array(self.c_values) if n else np.zeros(0)
+
+
+@dataclass
+class VariableInfo:
+    name: str
+    value_reference: int
+    causality: str
+    unit: str = ""
+
+
+class _Base:
+    """Model description, variables and unpacked files shared by both kinds of component."""
+
+    def __init__(self, name: str, fmu_path: str | Path) -> None:
+        self.name = name
+        self.path = Path(fmu_path)
+        md = read_model_description(str(self.path))
+        self.model_description = md
+        self.variables = {
+            v.name: VariableInfo(v.name, v.valueReference, v.causality, getattr(v, "unit", "") or "")
+            for v in md.modelVariables
+        }
+        # An output without a dependency list depends on every input (FMI 2.0, section 2.2.8).
+        self.feedthrough = any(u.dependencies is None or len(u.dependencies) > 0 for u in md.outputs)
+        self._unzip = extract(str(self.path), unzipdir=tempfile.mkdtemp(prefix=f"wec_{name}_"))
+
+    def port(self, names: Sequence[str]) -> Port:
+        missing = [n for n in names if n not in self.variables]
+        if missing:
+            raise MasterError(f"component {self.name!r} has no variable {missing[0]!r}")
+        return Port(list(names), [self.variables[n].value_reference for n in names])
+
+    def names(self, causality: str) -> list[str]:
+        return [v.name for v in self.variables.values() if v.causality == causality]
+
+
+class FmuComponent(_Base):
+    """An FMU loaded with fmpy (FMI 2.0 co-simulation)."""
+
+    def __init__(self, name: str, fmu_path: str | Path) -> None:
+        super().__init__(name, fmu_path)
+        md = self.model_description
+        self.messages: list[str] = []
+        self._callbacks = self._make_callbacks()
+        self.fmu = FMU2Slave(
+            guid=md.guid, unzipDirectory=self._unzip,
+            modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name,
+        )
+        self._call("instantiate", self.fmu.instantiate, callbacks=self._callbacks, loggingOn=False)
+        self._c = self.fmu.component
+        self._set = self.fmu.fmi2SetReal
+        self._get = self.fmu.fmi2GetReal
+        self._step = self.fmu.fmi2DoStep
+
+    def _make_callbacks(self) -> fmi2CallbackFunctions:
+        from fmpy import calloc, free
+        from fmpy.logging import addLoggerProxy
+
+        def logger(component, instance, status, category, message):  # noqa: ANN001
+            self.messages.append(message.decode("utf-8", "replace"))
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(ctypes.byref(cb))
+        return cb
+
+    def _call(self, what: str, fn, *args: Any, **kwargs: Any) -> Any:  # noqa: ANN001
+        try:
+            return fn(*args, **kwargs)
+        except FMICallException as exc:
+            detail = self.messages[-1] if self.messages else str(exc)
+            raise MasterError(f"{self.name} FMU: {what} failed: {detail}") from None
+
+    def setup(self, start_time: float, stop_time: float | None = None) -> None:
+        self._call("setupExperiment", self.fmu.setupExperiment, startTime=start_time, stopTime=stop_time)
+
+    def enter_initialization(self) -> None:
+        self._call("enterInitializationMode", self.fmu.enterInitializationMode)
+
+    def exit_initialization(self) -> None:
+        self._call("exitInitializationMode", self.fmu.exitInitializationMode)
+
+    def set_reals(self, port: Port, values: np.ndarray) -> None:
+        port.values[:] = values
+        status = self._set(self._c, port.c_vrs, len(port.vrs), port.c_values)
+        if status > 1:
+            self._raise("fmi2SetReal", status)
+
+    def get_reals(self, port: Port) -> np.ndarray:
+        status = self._get(self._c, port.c_vrs, len(port.vrs), port.c_values)
+        if status > 1:
+            self._raise("fmi2GetReal", status)
+        return port.values.copy()
+
+    def do_step(self, t: float, h: float) -> None:
+        status = self._step(self._c, t, h, 1)
+        if status > 1:
+            self._raise(f"fmi2DoStep at t = {t:g} s", status)
+
+    def _raise(self, what: str, status: int) -> None:
+        detail = self.messages[-1] if self.messages else f"status {status}"
+        raise MasterError(f"{self.name} FMU: {what} failed: {detail}")
+
+    def get_state(self) -> Any:
+        return self._call("getFMUstate", self.fmu.getFMUstate)
+
+    def set_state(self, state: Any) -> None:
+        self._call("setFMUstate", self.fmu.setFMUstate, state)
+
+    def free_state(self, state: Any) -> None:
+        self._call("freeFMUstate", self.fmu.freeFMUstate, state)
+
+    def serialize_state(self, state: Any) -> bytes:
+        return bytes(self._call("serializeFMUstate", self.fmu.serializeFMUstate, state))
+
+    def deserialize_state(self, data: bytes) -> Any:
+        return self._call("deSerializeFMUstate", self.fmu.deSerializeFMUstate, data)
+
+    def terminate(self) -> None:
+        try:
+            self.fmu.terminate()
+            self.fmu.freeInstance()
+        except Exception:  # noqa: BLE001 - best effort on shutdown
+            pass
+        shutil.rmtree(self._unzip, ignore_errors=True)
+
+
+class InProcessComponent(_Base):
+    """The slave class of an FMU called directly in this process (no fmpy, no PythonFMU binary).
+
+    The FMU is unpacked and its slave instantiated with the FMU's own resources, so the physics,
+    the variables and their value references are exactly those of :class:`FmuComponent`.
+    """
+
+    def __init__(self, name: str, fmu_path: str | Path) -> None:
+        import importlib
+        import sys
+
+        super().__init__(name, fmu_path)
+        md = self.model_description
+        resources = Path(self._unzip) / "resources"
+        module_name = (resources / "slavemodule.txt").read_text().strip()
+        sys.path.insert(0, str(resources))
+        try:
+            module = importlib.import_module(module_name)
+        finally:
+            sys.path.remove(str(resources))
+        cls = getattr(module, md.modelName)
+        self.slave = cls(instance_name=name, resources=str(resources))
+
+    def setup(self, start_time: float, stop_time: float | None = None) -> None:
+        self.slave.setup_experiment(start_time, stop_time, None)
+
+    def enter_initialization(self) -> None:
+        self.slave.enter_initialization_mode()
+
+    def exit_initialization(self) -> None:
+        self.slave.exit_initialization_mode()
+
+    def set_reals(self, port: Port, values: np.ndarray) -> None:
+        self.slave.set_real(port.vrs, values.tolist())
+
+    def get_reals(self, port: Port) -> np.ndarray:
+        return np.array(self.slave.get_real(port.vrs))
+
+    def do_step(self, t: float, h: float) -> None:
+        if not self.slave.do_step(t, h):
+            detail = self.slave.log_queue[-1].msg if self.slave.log_queue else "do_step returned False"
+            raise MasterError(f"{self.name}: doStep at t = {t:g} s failed: {detail}")
+
+    def get_state(self) -> Any:
+        return self.slave._get_fmu_state()
+
+    def set_state(self, state: Any) -> None:
+        self.slave._set_fmu_state(state)
+
+    def free_state(self, state: Any) -> None:
+        pass
+
+    def serialize_state(self, state: Any) -> bytes:
+        return self.slave._fmu_state_to_bytes(state)
+
+    def deserialize_state(self, data: bytes) -> Any:
+        return self.slave._fmu_state_from_bytes(data)
+
+    def terminate(self) -> None:
+        self.slave.terminate()
+        shutil.rmtree(self._unzip, ignore_errors=True)

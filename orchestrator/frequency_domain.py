@@ -1,0 +1,194 @@
+"""Exact linear frequency-domain response of a scene: the reference for time-domain runs.
+
+For each frequency omega the complex motion amplitudes X (per metre of wave amplitude,
+``exp(+i omega t)`` convention) solve
+
+    Z(omega) X = F_exc(omega),
+    Z = -omega^2 (M + A(omega)) + i omega (B(omega) + C_pto) + C_hs + K_pto,
+
+with M the rigid-body mass matrix, A and B the database's added mass and radiation damping
+(linearly interpolated in omega), C_hs the hydrostatic stiffness and the PTOs' damping and
+stiffness, all restricted to the scene's active degrees of freedom (the same coordinates as the
+time-domain multibody model). The mean power of a PTO of damping c on a coordinate with
+amplitude X is (1/2) omega^2 c |X|^2 per square metre of wave amplitude.
+
+``radiation="impulse_response"`` replaces A(omega), B(omega) by the coefficients that the
+time-domain model actually uses: A_inf plus the Fourier transform of the truncated, sampled
+impulse response K (trapezoidal rule, step dt, length T_K). That is the exact answer of the
+time-domain model in the limit of a vanishing coupling error, used to measure the master's
+convergence order without the database's own truncation error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import block_diag
+
+from hydro_fmu.radiation import impulse_response
+
+from .scene import Scene
+
+
+@dataclass
+class FrequencyResponse:
+    """Linear response of a scene.
+
+    Attributes:
+        omega: frequencies (Nw,), rad/s.
+        coordinates: (body, dof) of each column of ``rao``.
+        rao: complex motion per metre of wave amplitude (Nw, n).
+        pto_power: mean absorbed power per PTO name, W per m^2 of wave amplitude (Nw,).
+    """
+
+    omega: np.ndarray
+    coordinates: list[tuple[str, int]]
+    rao: np.ndarray
+    pto_power: dict[str, np.ndarray]
+
+    def body_rao(self, body: str) -> np.ndarray:
+        """RAO of ``body`` as (Nw, 6), zero for inactive degrees of freedom."""
+        out = np.zeros((len(self.omega), 6), complex)
+        for j, (b, d) in enumerate(self.coordinates):
+            if b == body:
+                out[:, d] = self.rao[:, j]
+        return out
+
+
+def radiation_coefficients_from_irf(
+    scene: Scene, omega: np.ndarray, dt: float, duration: float, omega_cut: float = np.inf
+) -> tuple[np.ndarray, np.ndarray]:
+    """A(omega), B(omega) (Nw, m, m) on the hydro coordinates implied by the truncated impulse response.
+
+    K is evaluated at step ``dt`` over ``duration`` and Fourier-transformed by the trapezoidal
+    rule: B = int K cos(w t) dt, A = A_inf - (1/w) int K sin(w t) dt. Above ``omega_cut`` (where
+    the sampled transform would alias) A = A_inf and B = 0.
+    """
+    idx = scene.hydro_index()
+    hdb = scene.hdb
+    n = max(2, int(np.ceil(duration / dt)) + 1)
+    t = np.arange(n) * dt
+    k = impulse_response(hdb.omega, hdb.radiation_damping[:, idx][:, :, idx], t)
+    w = np.full(n, dt)
+    w[0] = w[-1] = dt / 2
+    a_inf = hdb.added_mass_inf[np.ix_(idx, idx)]
+    a = np.broadcast_to(a_inf, (len(omega),) + a_inf.shape).copy()
+    b = np.zeros_like(a)
+    low = np.flatnonzero(omega <= omega_cut)
+    for chunk in np.array_split(low, max(1, len(low) // 1000)):
+        wc = omega[chunk]
+        b[chunk] = np.einsum("wt,tij->wij", np.cos(np.outer(wc, t)) * w, k)
+        a[chunk] -= np.einsum("wt,tij->wij", np.sin(np.outer(wc, t)) * w, k) / wc[:, None, None]
+    return a, b
+
+
+@dataclass
+class LinearModel:
+    """Z(omega) and the excitation of a scene on its multibody coordinates.
+
+    Attributes:
+        omega: (Nw,) rad/s; impedance: Z (Nw, n, n); excitation: per metre of amplitude (Nw, n);
+        stiffness: total static stiffness K = C_hs + K_pto (n, n); system: the multibody model.
+    """
+
+    omega: np.ndarray
+    impedance: np.ndarray
+    excitation: np.ndarray
+    stiffness: np.ndarray
+    system: object
+
+
+def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database",
+                 dt: float | None = None, omega_cut: float = np.inf) -> LinearModel:
+    """Assemble Z(omega) = -w^2 (M + A) + i w (B + C_pto) + C_hs + K_pto and F_exc (module docstring).
+
+    ``radiation``: ``database`` (A, B interpolated from the database) or ``impulse_response``
+    (the coefficients of the sampled, truncated impulse response at step ``dt``, default the
+    scenario's macro step; above ``omega_cut`` A = A_inf and B = 0).
+    """
+    omega = np.asarray(omega, dtype=float)
+    system = scene.multibody_system(added_mass=False)
+    idx = scene.hydro_index()
+    rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
+    hdb = scene.hdb
+    switches = scene.scenario.hydro
+    A, B, X = hdb.interpolate(omega, np.radians(scene.scenario.waves.heading_deg))
+    if radiation == "impulse_response":
+        A, B = radiation_coefficients_from_irf(
+            scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
+    elif radiation == "database":
+        A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
+    else:
+        raise ValueError(f"radiation must be 'database' or 'impulse_response', not {radiation!r}")
+    if not switches.radiation:  # memory force off: only A_inf remains (in the multibody mass matrix)
+        A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
+        B = np.zeros_like(B)
+    c_hs = block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)] if switches.hydrostatics else 0.0
+    stiffness = system.stiffness.copy()
+    stiffness[np.ix_(rows, rows)] += c_hs
+    w = omega[:, None, None]
+    z = -w**2 * system.structural_mass + 1j * w * system.damping + stiffness
+    block = np.ix_(np.arange(len(omega)), rows, rows)
+    z[block] += -w**2 * A + 1j * w * B
+    f = np.zeros((len(omega), system.n), complex)
+    if switches.excitation:
+        f[:, rows] = X[:, idx]
+    return LinearModel(omega, z, f, stiffness, system)
+
+
+def solve(
+    scene: Scene, omega: np.ndarray, *, radiation: str = "database", dt: float | None = None
+) -> FrequencyResponse:
+    """Response of ``scene`` at ``omega`` (rad/s) to unit-amplitude waves at the scene's heading."""
+    model = linear_model(scene, omega, radiation=radiation, dt=dt)
+    rao = np.linalg.solve(model.impedance, model.excitation[..., None])[..., 0]
+    system = model.system
+    power = {}
+    for p in system.ptos:
+        j = system.coordinate_index(p.body, p.dof)
+        power[p.name] = 0.5 * model.omega**2 * p.damping * np.abs(rao[:, j]) ** 2
+    return FrequencyResponse(model.omega, system.coordinates, rao, power)
+
+
+def free_decay(
+    scene: Scene,
+    t: np.ndarray,
+    x0: np.ndarray,
+    *,
+    radiation: str = "impulse_response",
+    omega_max: float = 60.0,
+    d_omega: float = 1e-3,
+    kernel_dt: float | None = None,
+) -> np.ndarray:
+    """Exact free decay x(t) (len(t), n) of the linear scene from displacement ``x0`` at rest.
+
+    The Laplace transform of the Cummins equation with x(0) = x0, x'(0) = 0 is
+    X(s) = x0/s - Z(s)^-1 K x0 / s (K the static stiffness, hydrostatics and PTOs), so
+
+        x(t) = x0 - (1/pi) int_0^inf Re[(exp(i w t) - 1)/(i w) Z(w)^-1] dw K x0,
+
+    evaluated by the trapezoidal rule on [0, omega_max] with step ``d_omega`` (the integrand
+    decays like w^-3 above the resonances; at w = 0 it equals t Z(0)^-1). With
+    ``radiation="impulse_response"`` Z uses the coefficients of the continuous, truncated impulse
+    response (evaluated at ``kernel_dt``, default pi / (20 w_max) for the database's highest
+    frequency w_max, and taken as A_inf, B = 0 above 2 w_max where the truncated kernel's
+    transform is only its Gibbs ripple): the exact answer of the time-domain model itself.
+    """
+    t = np.asarray(t, dtype=float)
+    x0 = np.asarray(x0, dtype=float)
+    omega = np.arange(1, int(round(omega_max / d_omega)) + 1) * d_omega
+    w_db = float(scene.hdb.omega[-1])
+    model = linear_model(scene, omega, radiation=radiation, dt=kernel_dt or np.pi / (20 * w_db),
+                         omega_cut=2 * w_db)
+    kx0 = model.stiffness @ x0
+    g = np.linalg.solve(model.impedance, np.broadcast_to(kx0, omega.shape + kx0.shape)[..., None])[..., 0]
+    g0 = np.linalg.lstsq(model.stiffness, kx0, rcond=None)[0]  # Z(0)^-1 K x0, the integrand's w -> 0 limit
+    weights = np.full(len(omega), d_omega)
+    weights[-1] = d_omega / 2
+    out = np.empty((len(t), len(x0)))
+    for k, tk in enumerate(t):
+        kernel = (np.exp(1j * omega * tk) - 1.0) / (1j * omega)
+        integral = np.real((kernel * weights) @ g) + 0.5 * d_omega * tk * g0
+        out[k] = x0 - integral / np.pi
+    return out

@@ -1,0 +1,125 @@
+"""Results files (HDF5), written while the run goes.
+
+Layout (every dataset has a first axis of N samples; see ``docs/results.md``):
+
+* ``/time`` (N,), s;
+* ``/bodies/<name>/displacement``, ``velocity`` (N, 6) from equilibrium, world frame, surge..yaw
+  (m, rad; m/s, rad/s); ``/bodies/<name>/hydro_force`` (N, 6), N and N m;
+* ``/ptos/<name>/force`` (N,) and ``power`` (N,) (N or N m; W, absorbed);
+* ``/wave/elevation`` (N,), m, incident elevation at the world origin;
+* root attributes: ``scenario`` (the file's text), ``scenario_file``, ``versions`` (JSON),
+  ``settings`` (JSON: master, step, extrapolation...), and when the run ends ``status``
+  (``completed`` or ``failed: ...``) and ``wall_time`` (s). ``status`` is ``running`` while the run
+  goes or if it was killed.
+
+Crash safety: datasets are chunked and extendable; rows are buffered in memory and appended at
+least every ``flush_seconds`` of wall time, the file being in HDF5's single-writer/multiple-reader
+(SWMR) mode, which keeps it consistent on disk at every moment. A killed run leaves a file that
+opens and holds every row up to the last flush.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+
+class ResultsWriter:
+    """Append-only writer of time series with periodic flushes.
+
+    Args:
+        path: file to create (its folder is created too).
+        series: dataset path -> shape of one row (``()`` for scalars).
+        attrs: root attributes written at creation (strings or numbers; dicts become JSON).
+        flush_seconds: longest wall time between two flushes.
+        buffer_rows: rows kept in memory before a flush at the latest.
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        series: dict[str, tuple[int, ...]],
+        attrs: dict[str, Any],
+        flush_seconds: float = 2.0,
+        buffer_rows: int = 2048,
+    ) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.flush_seconds = flush_seconds
+        self.file = h5py.File(self.path, "w", libver="latest")
+        for key, value in attrs.items():
+            self.file.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
+        self.file.attrs["status"] = "running"
+        self.file.attrs["wall_time"] = np.nan
+        self.datasets = {}
+        self.buffers = {}
+        for name, shape in series.items():
+            chunk = (max(1, min(buffer_rows, 1024)),) + tuple(shape)
+            self.datasets[name] = self.file.create_dataset(
+                name, shape=(0,) + tuple(shape), maxshape=(None,) + tuple(shape), chunks=chunk, dtype="f8")
+            self.buffers[name] = np.zeros((buffer_rows,) + tuple(shape))
+        self.rows = 0  # rows in the buffer
+        self.written = 0  # rows on disk
+        self.file.swmr_mode = True
+        self._last_flush = time.monotonic()
+
+    def append(self, row: dict[str, np.ndarray | float]) -> None:
+        """Add one sample of every series (missing series get NaN)."""
+        i = self.rows
+        for name, buf in self.buffers.items():
+            buf[i] = row.get(name, np.nan)
+        self.rows += 1
+        if self.rows == len(next(iter(self.buffers.values()))) or (
+            time.monotonic() - self._last_flush > self.flush_seconds
+        ):
+            self.flush()
+
+    def flush(self) -> None:
+        """Append the buffered rows to the file and flush it to disk."""
+        if self.rows:
+            n0, n1 = self.written, self.written + self.rows
+            for name, ds in self.datasets.items():
+                ds.resize(n1, axis=0)
+                ds[n0:n1] = self.buffers[name][: self.rows]
+                ds.flush()
+            self.written, self.rows = n1, 0
+        self.file.flush()
+        self._last_flush = time.monotonic()
+
+    def close(self, status: str = "completed", wall_time: float | None = None,
+              attrs: dict[str, Any] | None = None) -> None:
+        """Flush, close, and record the final status and wall time."""
+        if self.file.id.valid:
+            self.flush()
+            self.file.close()
+        with h5py.File(self.path, "a") as f:
+            f.attrs["status"] = status
+            if wall_time is not None:
+                f.attrs["wall_time"] = wall_time
+            for key, value in (attrs or {}).items():
+                f.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
+
+
+def read_results(path: str | Path) -> dict[str, Any]:
+    """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded)."""
+    out: dict[str, Any] = {}
+    with h5py.File(path, "r", swmr=True) as f:
+        def visit(name: str, obj: Any) -> None:
+            if isinstance(obj, h5py.Dataset):
+                out[name] = obj[()]
+        f.visititems(visit)
+        attrs = {}
+        for k, v in f.attrs.items():
+            if isinstance(v, str) and v[:1] in "[{":
+                try:
+                    v = json.loads(v)
+                except ValueError:
+                    pass
+            attrs[k] = v
+        out["attrs"] = attrs
+    return out

@@ -1,0 +1,312 @@
+"""Scenario files (TOML): schema, loading and validation.
+
+One scenario file describes a scene (bodies, PTOs, waves, environment, hydrodynamics) and how
+to run it. The same file drives ``wec-cosim run`` (time domain), ``wec-cosim rao`` (frequency
+domain), ``wec-cosim hydro`` (database) and ``wec-cosim build-fmus``. Every key, unit and
+default is in ``docs/scenario.md``, generated from this module (``python -m orchestrator.scenario``).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import schema
+from .errors import ScenarioError
+from .schema import identifier, non_negative, option, positive
+
+DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+
+
+def _order(value: int) -> str | None:
+    return None if value in (0, 1, 2) else "must be 0, 1 or 2"
+
+
+@dataclass
+class SimulationSection:
+    """Time-domain co-simulation settings."""
+
+    duration: float = option(unit="s", doc="simulated time", check=positive)
+    step: float = option(unit="s", doc="macro (communication) step of the master", check=positive)
+    master: str = option("jacobi", choices=("jacobi",), doc="master algorithm")
+    extrapolation: int = option(
+        2, check=_order,
+        doc="order of the polynomial extrapolation of the multibody FMU's force inputs, averaged over the step "
+            "(0 = hold the last value)")
+    output: str = option("", doc="results file (HDF5); default `results/<name>.h5` in the working directory")
+    output_every: int = option(1, check=positive, doc="record every n-th macro step")
+    steady_periods: float = option(
+        10.0, check=positive,
+        doc="number of wave periods at the end of the run used for the steady-state amplitude, phase and power")
+
+
+@dataclass
+class EnvironmentSection:
+    """Water and gravity."""
+
+    rho: float = option(1025.0, unit="kg/m^3", check=positive, doc="water density")
+    g: float = option(9.81, unit="m/s^2", check=positive, doc="gravitational acceleration")
+    water_depth: float = option(math.inf, unit="m", check=positive, allow_inf=True,
+                                doc="water depth; `inf` for deep water")
+
+
+@dataclass
+class WavesSection:
+    """Incident waves."""
+
+    kind: str = option("regular", choices=("regular", "still"), doc="`regular` wave or `still` water")
+    height: float = option(0.0, unit="m", check=non_negative, doc="regular wave height, crest to trough")
+    period: float = option(0.0, unit="s", check=non_negative, doc="regular wave period")
+    phase_deg: float = option(0.0, unit="deg", doc="phase of the elevation at the world origin")
+    heading_deg: float = option(0.0, unit="deg", doc="direction of propagation, 0 = towards +x")
+    ramp_time: float | None = option(
+        None, unit="s", check=non_negative,
+        doc="duration of the half-cosine start-up ramp; default three wave periods")
+
+
+@dataclass
+class FrequencyGrid:
+    """Uniform frequency grid."""
+
+    start: float = option(unit="rad/s", check=positive, doc="first frequency")
+    stop: float = option(unit="rad/s", check=positive, doc="last frequency")
+    step: float = option(unit="rad/s", check=positive, doc="spacing")
+
+
+@dataclass
+class HydroSection:
+    """Hydrodynamic database and force model."""
+
+    database: str = option("", doc="BEMIO HDF5 file (path relative to the scenario file); "
+                                   "if empty the database is computed with Capytaine from the bodies' geometry")
+    cache_dir: str = option("hydro_cache", doc="folder of computed databases, relative to the scenario file")
+    omega: FrequencyGrid = field(
+        default_factory=lambda: FrequencyGrid(0.04, 4.0, 0.04),
+        metadata={"doc": "BEM frequency grid (also the resolution of the radiation impulse response)"})
+    headings_deg: list[float] = option(factory=lambda: [0.0], unit="deg", doc="BEM wave headings")
+    bem_method: str = option("indirect", choices=("indirect", "direct"), doc="Capytaine formulation")
+    irf_duration: float = option(60.0, unit="s", check=positive, doc="length of the radiation impulse response")
+    excitation: bool = option(True, doc="compute the wave excitation force")
+    radiation: bool = option(True, doc="compute the radiation memory force")
+    hydrostatics: bool = option(True, doc="compute the linear hydrostatic force")
+
+
+@dataclass
+class GeometrySection:
+    """Wetted shape of a body for the BEM solver."""
+
+    shape: str = option(choices=SHAPES, doc="primitive or mesh file")
+    radius: float = option(0.0, unit="m", check=non_negative, doc="cylinder or sphere radius")
+    draft: float = option(0.0, unit="m", check=non_negative, doc="cylinder draft (immersed length)")
+    size: tuple[float, float, float] = option((0.0, 0.0, 0.0), unit="m", check=non_negative,
+                                              doc="box length, width, height")
+    mesh_file: str = option("", doc="mesh file (.obj, .stl, .gdf, ...), relative to the scenario file")
+    position: tuple[float, float, float] = option(
+        (0.0, 0.0, 0.0), unit="m",
+        doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
+            "mesh: the file's origin)")
+    panel_size: float = option(0.5, unit="m", check=positive, doc="target panel size of primitive meshes")
+    lid: bool = option(True, doc="lid on the waterplane against irregular frequencies (surface-piercing bodies)")
+
+
+@dataclass
+class BodySection:
+    """A rigid body."""
+
+    name: str = option(check=identifier, doc="body name (used in FMU variable names)")
+    cg: tuple[float, float, float] = option(unit="m", doc="centre of gravity at equilibrium (world frame)")
+    mass: float | None = option(None, unit="kg", check=positive,
+                                doc="mass; default the displaced mass rho*V (freely floating)")
+    inertia: list[float] | None = option(
+        None, unit="kg m^2", check=None,
+        doc="inertia about the cg: [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]; required for rotations")
+    dofs: list[str] = option(factory=lambda: list(DOFS), choices=DOFS, doc="active degrees of freedom")
+    hydro: bool = option(True, doc="the body has hydrodynamic forces")
+    geometry: GeometrySection | None = field(default=None, metadata={"doc": "shape for the BEM solver"})
+    initial_displacement: list[float] = option(
+        factory=lambda: [0.0] * 6, unit="m, rad", doc="initial displacement from equilibrium (6 values)")
+    initial_velocity: list[float] = option(
+        factory=lambda: [0.0] * 6, unit="m/s, rad/s", doc="initial velocity (6 values)")
+
+
+@dataclass
+class PtoSection:
+    """Linear power take-off between a body's degree of freedom and the ground."""
+
+    name: str = option(check=identifier, doc="PTO name (used in FMU variable names)")
+    body: str = option(doc="body the PTO acts on")
+    dof: str = option(choices=DOFS, doc="degree of freedom it acts on")
+    stiffness: float = option(0.0, unit="N/m or N m/rad", check=non_negative, doc="spring stiffness")
+    damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative, doc="damping (power absorption)")
+
+
+@dataclass
+class RaoSection:
+    """Frequency-domain (RAO) settings for `wec-cosim rao`."""
+
+    omega: FrequencyGrid | None = field(default=None, metadata={"doc": "frequencies; default the database grid"})
+
+
+@dataclass
+class Scenario:
+    """A scene and how to run it."""
+
+    simulation: SimulationSection = field(metadata={"doc": "time-domain settings"})
+    bodies: list[BodySection] = field(metadata={"doc": "rigid bodies"})
+    name: str = option("", doc="scenario name; default the file name without extension")
+    description: str = option("", doc="free text")
+    environment: EnvironmentSection = field(default_factory=EnvironmentSection)
+    waves: WavesSection = field(default_factory=WavesSection)
+    hydro: HydroSection = field(default_factory=HydroSection)
+    ptos: list[PtoSection] = field(default_factory=list, metadata={"doc": "power take-offs"})
+    rao: RaoSection = field(default_factory=RaoSection)
+    _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
+    _text: str = field(default="", init=False, repr=False)
+
+    @property
+    def file(self) -> Path:
+        return self._file
+
+    @property
+    def text(self) -> str:
+        return self._text
+
+    @property
+    def folder(self) -> Path:
+        return self._file.parent
+
+    def resolve(self, relative: str) -> Path:
+        """A path from the scenario file, relative to the scenario's folder."""
+        p = Path(relative).expanduser()
+        return p if p.is_absolute() else self.folder / p
+
+    def body(self, name: str) -> BodySection:
+        return next(b for b in self.bodies if b.name == name)
+
+    @property
+    def hydro_bodies(self) -> list[BodySection]:
+        return [b for b in self.bodies if b.hydro]
+
+    @property
+    def ramp_time(self) -> float:
+        w = self.waves
+        if w.ramp_time is not None:
+            return w.ramp_time
+        return 3.0 * w.period if w.kind == "regular" else 0.0
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file; raises :class:`ScenarioError` on any problem."""
+    path = Path(path)
+    if not path.is_file():
+        raise ScenarioError(f"scenario file {path} does not exist")
+    text = path.read_text()
+    return parse_scenario(text, path)
+
+
+def parse_scenario(text: str, path: Path) -> Scenario:
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    scenario = schema.load(Scenario, data, str(path))
+    scenario._file = path
+    scenario._text = text
+    if not scenario.name:
+        scenario.name = path.stem
+    _check(scenario)
+    return scenario
+
+
+def _check(s: Scenario) -> None:
+    """Checks that involve several keys."""
+    f = str(s.file)
+    if not s.bodies:
+        raise ScenarioError(f"{f}: [[bodies]] is empty; a scene needs at least one body")
+    _unique(f, "bodies", [b.name for b in s.bodies])
+    _unique(f, "ptos", [p.name for p in s.ptos])
+    _unique(f, "bodies/ptos", [b.name for b in s.bodies] + [p.name for p in s.ptos])
+    for i, b in enumerate(s.bodies):
+        where = f"{f}: bodies[{i}] ({b.name})"
+        if not b.dofs:
+            raise ScenarioError(f"{where}: dofs is empty; give at least one degree of freedom")
+        _unique(f, f"bodies[{i}].dofs", b.dofs)
+        for key in ("initial_displacement", "initial_velocity"):
+            if len(getattr(b, key)) != 6:
+                raise ScenarioError(f"{where}: {key} needs 6 values (surge..yaw), got {len(getattr(b, key))}")
+        if b.inertia is not None and len(b.inertia) not in (3, 6):
+            raise ScenarioError(f"{where}: inertia needs 3 or 6 values, got {len(b.inertia)}")
+        if b.inertia is not None and any(v <= 0 for v in b.inertia[:3]):
+            raise ScenarioError(f"{where}: the principal moments of inertia must be positive")
+        if any(d in b.dofs for d in ("roll", "pitch", "yaw")) and b.inertia is None:
+            raise ScenarioError(f"{where}: rotational dofs are active but no inertia is given")
+        if b.hydro and not s.hydro.database and b.geometry is None:
+            raise ScenarioError(
+                f"{where}: a hydrodynamic body needs a [bodies.geometry] table, or set [hydro].database, "
+                "or hydro = false")
+        if b.geometry is not None:
+            _check_geometry(s, b, where)
+        if not b.hydro and b.mass is None:
+            raise ScenarioError(f"{where}: a body without hydrodynamics needs an explicit mass")
+    names = {b.name: b for b in s.bodies}
+    for i, p in enumerate(s.ptos):
+        where = f"{f}: ptos[{i}] ({p.name})"
+        if p.body not in names:
+            raise ScenarioError(f"{where}: body {p.body!r} is not defined (bodies: {', '.join(names)})")
+        if p.dof not in names[p.body].dofs:
+            raise ScenarioError(f"{where}: dof {p.dof!r} is not active on body {p.body!r}")
+    w = s.waves
+    if w.kind == "regular" and not (w.period > 0 and w.height > 0):
+        raise ScenarioError(f"{f}: [waves] kind = 'regular' needs a positive height and period")
+    if s.hydro.database and not s.resolve(s.hydro.database).is_file():
+        raise ScenarioError(f"{f}: hydro.database: file {s.resolve(s.hydro.database)} does not exist")
+    g = s.hydro.omega
+    if g.stop <= g.start:
+        raise ScenarioError(f"{f}: hydro.omega: stop must be larger than start")
+    sim = s.simulation
+    if sim.step > sim.duration:
+        raise ScenarioError(f"{f}: simulation.step ({sim.step} s) is longer than the duration ({sim.duration} s)")
+
+
+def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
+    g = b.geometry
+    needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",)}.get(g.shape, ())
+    for key in needs:
+        if getattr(g, key) <= 0:
+            raise ScenarioError(f"{where}: geometry shape {g.shape!r} needs a positive {key}")
+    if g.shape == "box" and min(g.size) <= 0:
+        raise ScenarioError(f"{where}: geometry shape 'box' needs size = [length, width, height], all positive")
+    if g.shape == "mesh":
+        if not g.mesh_file:
+            raise ScenarioError(f"{where}: geometry shape 'mesh' needs mesh_file")
+        if not s.resolve(g.mesh_file).is_file():
+            raise ScenarioError(f"{where}: mesh_file {s.resolve(g.mesh_file)} does not exist")
+
+
+def _unique(file: str, what: str, names: list[str]) -> None:
+    seen = set()
+    for n in names:
+        if n in seen:
+            raise ScenarioError(f"{file}: {what}: name {n!r} is used twice")
+        seen.add(n)
+
+
+def reference_markdown() -> str:
+    """The scenario reference page (``docs/scenario.md``), generated from the schema."""
+    head = [
+        "# Scenario file reference",
+        "",
+        "Generated from `orchestrator/scenario.py` by `python -m orchestrator.scenario > docs/scenario.md`;",
+        "a test checks that this page matches the code. Units are SI except where a key says `_deg`.",
+        "Paths are relative to the scenario file. Unknown keys, wrong types, non-finite numbers and",
+        "out-of-range values are errors that name the file and the key.",
+        "",
+    ]
+    return "\n".join(head + schema.document(Scenario, "scenario")) + "\n"
+
+
+if __name__ == "__main__":
+    print(reference_markdown(), end="")

@@ -1,0 +1,222 @@
+"""A scenario resolved against its hydrodynamic database: what the FMUs, the master and the
+frequency-domain solver need, derived in one place.
+
+Coordinate conventions: the *hydro coordinates* are the active degrees of freedom of the
+hydrodynamic bodies, body after body in scenario order; scene hydro DOF number k (1-based in FMI
+names ``A_inf[k,l]``) is ``6 * (index among hydrodynamic bodies) + dof + 1``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cached_database, frequency_grid
+from hydro_fmu.bemio import read_bemio
+from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
+from hydro_fmu.waves import Ramp, WaveComponents, regular_wave, still_water
+from mbd_fmu.bodies import RigidBody
+from mbd_fmu.force_elements import LinearPTO
+from mbd_fmu.linear_system import LinearMultibodySystem
+
+from .errors import ScenarioError
+from .scenario import DOFS, BodySection, Scenario
+
+HYDRO = "hydro"
+MBD = "mbd"
+
+
+@dataclass(frozen=True)
+class Connection:
+    """Output ``source.source_variable`` feeds input ``target.target_variable``."""
+
+    source: str
+    source_variable: str
+    target: str
+    target_variable: str
+
+
+def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
+    """Capytaine inputs of the scenario's hydrodynamic bodies."""
+    bodies = []
+    for b in scenario.hydro_bodies:
+        g = b.geometry
+        mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
+        geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
+                                mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
+                                lid=g.lid)
+        bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
+    h, env = scenario.hydro, scenario.environment
+    settings = BemSettings(
+        omega=frequency_grid(h.omega.start, h.omega.stop, h.omega.step),
+        headings_deg=tuple(h.headings_deg),
+        rho=env.rho, g=env.g, water_depth=env.water_depth, method=h.bem_method,
+    )
+    return bodies, settings
+
+
+def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tuple[HydroDatabase, Path]:
+    """The scenario's database (file named in the scenario, or Capytaine through the cache)."""
+    if not scenario.hydro_bodies:
+        raise ScenarioError(f"{scenario.file}: no body has hydrodynamics")
+    if scenario.hydro.database:
+        path = scenario.resolve(scenario.hydro.database)
+        hdb = read_bemio(path)
+    else:
+        bodies, settings = bem_inputs(scenario)
+        cache = scenario.resolve(scenario.hydro.cache_dir)
+        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh)
+        if log is not None:
+            log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
+    return _match_bodies(scenario, hdb), path
+
+
+def _match_bodies(scenario: Scenario, hdb: HydroDatabase) -> HydroDatabase:
+    """Database restricted to the scenario's hydrodynamic bodies, in scenario order, checked."""
+    names = [b.name for b in scenario.hydro_bodies]
+    if all(n in hdb.body_names for n in names):
+        sub = hdb.select_bodies(names)
+    elif len(hdb.body_names) == len(names):
+        sub = hdb.select_bodies(hdb.body_names)
+        sub.body_names = names
+    else:
+        raise ScenarioError(
+            f"{scenario.file}: the database {hdb.source} has bodies {hdb.body_names}, "
+            f"which do not match the scenario's hydrodynamic bodies {names}")
+    env = scenario.environment
+    for key in ("rho", "g"):
+        if not math.isclose(getattr(hdb, key), getattr(env, key), rel_tol=1e-6):
+            raise ScenarioError(
+                f"{scenario.file}: environment.{key} = {getattr(env, key)} but the database "
+                f"{hdb.source} was computed with {key} = {getattr(hdb, key)}")
+    for i, b in enumerate(scenario.hydro_bodies):
+        if np.linalg.norm(sub.cg[i] - np.asarray(b.cg)) > 1e-3:
+            raise ScenarioError(
+                f"{scenario.file}: body {b.name!r} has cg {list(b.cg)} but its database {hdb.source} is "
+                f"about {sub.cg[i].tolist()}; forces would be about the wrong point")
+    return sub
+
+
+class Scene:
+    """A validated scenario with its database: FMU specifications, connections, physics objects."""
+
+    def __init__(self, scenario: Scenario, hdb: HydroDatabase, hdb_file: Path) -> None:
+        self.scenario = scenario
+        self.hdb = hdb
+        self.hdb_file = hdb_file
+        self.hydro_bodies = [b.name for b in scenario.hydro_bodies]
+        self.hydro_coordinates = [(b.name, DOFS.index(d)) for b in scenario.hydro_bodies
+                                  for d in _sorted_dofs(b)]
+        heading = math.radians(scenario.waves.heading_deg)
+        if scenario.waves.kind != "still":
+            try:
+                hdb.heading_index(heading)
+            except HydroDatabaseError as exc:
+                raise ScenarioError(f"{scenario.file}: waves.heading_deg: {exc}") from None
+
+    # ------------------------------------------------------------------ physics objects
+    def body_mass(self, b: BodySection) -> float:
+        if b.mass is not None:
+            return b.mass
+        i = self.hydro_bodies.index(b.name)
+        return self.hdb.rho * float(self.hdb.displaced_volume[i])
+
+    @staticmethod
+    def inertia_matrix(b: BodySection) -> np.ndarray:
+        if b.inertia is None:
+            return np.eye(3)  # unused: no rotational DOF is active
+        v = list(b.inertia) + [0.0] * (6 - len(b.inertia))
+        ixx, iyy, izz, ixy, ixz, iyz = v
+        return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+
+    def rigid_bodies(self) -> list[RigidBody]:
+        return [
+            RigidBody(b.name, self.body_mass(b), self.inertia_matrix(b), np.asarray(b.cg),
+                      tuple(DOFS.index(d) for d in _sorted_dofs(b)))
+            for b in self.scenario.bodies
+        ]
+
+    def ptos(self) -> list[LinearPTO]:
+        return [LinearPTO(p.name, p.body, DOFS.index(p.dof), p.stiffness, p.damping) for p in self.scenario.ptos]
+
+    def waves(self) -> WaveComponents:
+        w = self.scenario.waves
+        if w.kind == "still":
+            return still_water()
+        return regular_wave(w.height, w.period, math.radians(w.phase_deg), math.radians(w.heading_deg))
+
+    def ramp(self) -> Ramp:
+        return Ramp(self.scenario.ramp_time)
+
+    def hydro_index(self) -> np.ndarray:
+        """Index of each hydro coordinate in the database's 6N numbering."""
+        return np.array([6 * self.hydro_bodies.index(b) + d for b, d in self.hydro_coordinates], dtype=int)
+
+    def multibody_system(self, *, added_mass: bool = True) -> LinearMultibodySystem:
+        """The multibody model; ``added_mass`` puts the database's A_inf in its mass matrix."""
+        idx = self.hydro_index()
+        a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)] if added_mass else None
+        system = LinearMultibodySystem(self.rigid_bodies(), self.ptos(), a_inf, self.hydro_coordinates)
+        q0 = [b.initial_displacement[DOFS.index(d)] for b in self.scenario.bodies for d in _sorted_dofs(b)]
+        v0 = [b.initial_velocity[DOFS.index(d)] for b in self.scenario.bodies for d in _sorted_dofs(b)]
+        system.set_state(np.array(q0), np.array(v0))
+        return system
+
+    # ------------------------------------------------------------------ FMU specifications
+    def hydro_spec(self, database_name: str) -> dict:
+        s = self.scenario
+        w = s.waves
+        return {
+            "kind": HYDRO,
+            "database": database_name,
+            "bodies": [{"name": b.name, "dofs": [DOFS.index(d) for d in _sorted_dofs(b)]} for b in s.hydro_bodies],
+            "waves": {"kind": w.kind, "height": w.height, "period": w.period,
+                      "phase": math.radians(w.phase_deg), "heading": math.radians(w.heading_deg),
+                      "ramp_time": s.ramp_time},
+            "radiation": {"dt": s.simulation.step, "irf_duration": s.hydro.irf_duration},
+            "switches": {"excitation": s.hydro.excitation, "radiation": s.hydro.radiation,
+                         "hydrostatics": s.hydro.hydrostatics},
+        }
+
+    def mbd_spec(self) -> dict:
+        s = self.scenario
+        return {
+            "kind": MBD,
+            "bodies": [
+                {"name": b.name, "mass": self.body_mass(b), "inertia": self.inertia_matrix(b).tolist(),
+                 "cg": list(b.cg), "dofs": [DOFS.index(d) for d in _sorted_dofs(b)],
+                 "x0": list(b.initial_displacement), "v0": list(b.initial_velocity)}
+                for b in s.bodies
+            ],
+            "ptos": [{"name": p.name, "body": p.body, "dof": DOFS.index(p.dof), "stiffness": p.stiffness,
+                      "damping": p.damping} for p in s.ptos],
+            "hydro_bodies": self.hydro_bodies,
+            "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
+        }
+
+    def connections(self) -> list[Connection]:
+        """Force/velocity bonds: MBD displacement and velocity -> hydro, hydro force -> MBD."""
+        links = []
+        for b, d in self.hydro_coordinates:
+            i = d + 1
+            links.append(Connection(MBD, f"{b}.x[{i}]", HYDRO, f"{b}.x[{i}]"))
+            links.append(Connection(MBD, f"{b}.v[{i}]", HYDRO, f"{b}.v[{i}]"))
+            links.append(Connection(HYDRO, f"{b}.F[{i}]", MBD, f"{b}.F[{i}]"))
+        return links
+
+    def parameter_links(self) -> list[Connection]:
+        """Calculated parameters copied at initialisation: A_inf from the hydro FMU to the MBD FMU."""
+        labels = [k + 1 for k in self.hydro_index()]
+        return [Connection(HYDRO, f"A_inf[{k},{l}]", MBD, f"A_inf[{k},{l}]") for k in labels for l in labels]
+
+
+def _sorted_dofs(b: BodySection) -> list[str]:
+    return sorted(b.dofs, key=DOFS.index)
+
+
+def load_scene(scenario: Scenario, *, refresh: bool = False, log=print) -> Scene:
+    hdb, path = load_database(scenario, refresh=refresh, log=log)
+    return Scene(scenario, hdb, path)
