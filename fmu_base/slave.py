@@ -21,6 +21,7 @@ from __future__ import annotations
 import copy
 import json
 import pickle
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -31,6 +32,20 @@ from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 from pythonfmu.enums import Fmi2Initial
 
 SPEC_FILE = "scene_spec.json"
+
+# PythonFMU 0.7's C++ instantiation (its ``findClass`` step) releases one reference to the FMU
+# script module's __dict__ that it never owned, once per instance; without compensation the
+# module's globals are freed while the module is still in sys.modules and the host process
+# crashes later. The script takes one reference when it is imported (for the first instance) and
+# every instance takes one more (for the next); they are kept for the life of the process.
+_SCRIPT_DICT_REFERENCES: list[dict] = []
+
+
+def hold_module_globals(module_name: str) -> None:
+    """Keep one extra reference to the globals of ``module_name`` (see above)."""
+    module = sys.modules.get(module_name)
+    if module is not None:
+        _SCRIPT_DICT_REFERENCES.append(vars(module))
 
 # SI base-unit exponents (kg, m, s, rad) of every unit used on our interfaces.
 _BASE_UNITS: dict[str, dict[str, int]] = {
@@ -88,6 +103,7 @@ class VectorSlave(Fmi2Slave):
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        hold_module_globals(type(self).__module__)
         self._slot: dict[int, tuple[np.ndarray, int]] = {}
         self._input_vrs: list[int] = []
         self._output_deps: dict[int, Sequence[str] | None] = {}

@@ -9,10 +9,12 @@ in its mass matrix) is the memory integral
 
 Impulse response: B(omega) is taken piecewise linear between the database frequencies (and
 linear from B(0) = 0 to the first frequency, zero above the last one) and the cosine integral is
-evaluated exactly on each segment (Filon-type). This removes the aliasing of the trapezoidal rule
-at large t (which needs Delta omega << pi / t); the error is that of the linear interpolation of
-B, second order in Delta omega, plus the truncation at the highest database frequency, which
-shows as a ripple of period 2 pi / omega_max in K(t).
+evaluated exactly on each segment (Filon-type). On a uniform grid this equals the trapezoidal
+cosine sum times sinc^2(Delta omega t / 2): the periodic images of K that the trapezoidal sum
+produces at t = 2 pi m / Delta omega are suppressed (to zero at those times), and for
+t << pi / Delta omega the error is second order in Delta omega. Keep the kernel shorter than
+about pi / Delta omega. Truncation at the highest database frequency shows as a ripple of period
+2 pi / omega_max in K(t).
 
 Convolution: trapezoidal rule on a uniform grid t_j = j * dt over the kernel length T_K
 (``irf_duration``): second-order accurate in dt for a smooth velocity, no stability limit of its

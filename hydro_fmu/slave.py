@@ -90,7 +90,8 @@ class HydroSlave(VectorSlave):
             ("F_rad", FORCE_UNITS, "output", "radiation memory force (A_inf part excluded)"),
             ("F_hs", FORCE_UNITS, "output", "linear hydrostatic restoring force"),
         ):
-            deps = () if key == "F_exc" else None  # F, F_rad, F_hs depend on the current x and v
+            # Direct feedthrough: hydrostatics from x, radiation memory from the current v (all bodies).
+            deps = {"F": ("x", "v"), "F_rad": ("v",), "F_hs": ("x",)}.get(key, ())
             self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
                            description=desc, depends_on=deps)
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -28,11 +29,13 @@ class Ramp:
     duration: float = 0.0
 
     def __call__(self, t: float | np.ndarray) -> float | np.ndarray:
-        if self.duration <= 0:
-            return np.ones_like(t, dtype=float) if isinstance(t, np.ndarray) else 1.0
-        s = np.clip(np.asarray(t, dtype=float) / self.duration, 0.0, 1.0)
-        r = 0.5 * (1.0 - np.cos(np.pi * s))
-        return r if isinstance(t, np.ndarray) else float(r)
+        if isinstance(t, np.ndarray):
+            if self.duration <= 0:
+                return np.ones_like(t, dtype=float)
+            return 0.5 * (1.0 - np.cos(np.pi * np.clip(t / self.duration, 0.0, 1.0)))
+        if self.duration <= 0 or t >= self.duration:
+            return 1.0
+        return 0.5 * (1.0 - math.cos(math.pi * max(t, 0.0) / self.duration))
 
 
 @dataclass(frozen=True)
@@ -51,16 +54,17 @@ class WaveComponents:
     phase: np.ndarray
     heading: float = 0.0
 
-    @property
+    @cached_property
     def complex_amplitude(self) -> np.ndarray:
         """a_k exp(i phi_k), m."""
         return self.amplitude * np.exp(1j * self.phase)
 
     def elevation(self, t: float | np.ndarray, ramp: Ramp = Ramp()) -> float | np.ndarray:
         """Elevation at the world origin, m (vectorised over ``t``)."""
-        tt = np.atleast_1d(np.asarray(t, dtype=float))
-        eta = np.real(np.exp(1j * np.outer(tt, self.omega)) @ self.complex_amplitude) * ramp(tt)
-        return float(eta[0]) if np.ndim(t) == 0 else eta
+        if np.ndim(t) == 0:
+            return float(np.real(np.exp(1j * self.omega * t) @ self.complex_amplitude)) * ramp(float(t))
+        tt = np.asarray(t, dtype=float)
+        return np.real(np.exp(1j * np.outer(tt, self.omega)) @ self.complex_amplitude) * ramp(tt)
 
 
 def regular_wave(height: float, period: float, phase: float = 0.0, heading: float = 0.0) -> WaveComponents:

@@ -17,8 +17,10 @@ the difference between the two is the cost of the FMI interface itself.
 from __future__ import annotations
 
 import ctypes
+import itertools
 import shutil
 import tempfile
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -65,6 +67,31 @@ class VariableInfo:
     unit: str = ""
 
 
+# fmpy's native logger proxy keeps a single Python logger for the whole process, so one logger
+# serves every FMU instance and files each message under the instance name it comes with.
+_LOGS: dict[str, deque] = {}
+_INSTANCE_IDS = itertools.count(1)
+_CALLBACKS: list[fmi2CallbackFunctions] = []
+
+
+def _callbacks() -> fmi2CallbackFunctions:
+    if not _CALLBACKS:
+        from fmpy import calloc, free
+        from fmpy.logging import addLoggerProxy
+
+        def logger(component, instance, status, category, message):  # noqa: ANN001
+            name = instance.decode("utf-8", "replace") if instance else ""
+            _LOGS.setdefault(name, deque(maxlen=50)).append(message.decode("utf-8", "replace"))
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(ctypes.byref(cb))
+        _CALLBACKS.append(cb)
+    return _CALLBACKS[0]
+
+
 class _Base:
     """Model description, variables and unpacked files shared by both kinds of component."""
 
@@ -97,37 +124,25 @@ class FmuComponent(_Base):
     def __init__(self, name: str, fmu_path: str | Path) -> None:
         super().__init__(name, fmu_path)
         md = self.model_description
-        self.messages: list[str] = []
-        self._callbacks = self._make_callbacks()
+        self.instance_name = f"{name}#{next(_INSTANCE_IDS)}"
+        self.messages = _LOGS.setdefault(self.instance_name, deque(maxlen=50))
         self.fmu = FMU2Slave(
             guid=md.guid, unzipDirectory=self._unzip,
-            modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name,
+            modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.instance_name,
         )
-        self._call("instantiate", self.fmu.instantiate, callbacks=self._callbacks, loggingOn=False)
+        self._call("instantiate", self.fmu.instantiate, callbacks=_callbacks(), loggingOn=True)
+        # All categories on: PythonFMU forwards a slave's log messages (our error reports) only then.
+        self._call("setDebugLogging", self.fmu.setDebugLogging, True, [])
         self._c = self.fmu.component
         self._set = self.fmu.fmi2SetReal
         self._get = self.fmu.fmi2GetReal
         self._step = self.fmu.fmi2DoStep
 
-    def _make_callbacks(self) -> fmi2CallbackFunctions:
-        from fmpy import calloc, free
-        from fmpy.logging import addLoggerProxy
-
-        def logger(component, instance, status, category, message):  # noqa: ANN001
-            self.messages.append(message.decode("utf-8", "replace"))
-
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(cb))
-        return cb
-
     def _call(self, what: str, fn, *args: Any, **kwargs: Any) -> Any:  # noqa: ANN001
         try:
             return fn(*args, **kwargs)
-        except FMICallException as exc:
-            detail = self.messages[-1] if self.messages else str(exc)
+        except (FMICallException, Exception) as exc:  # fmpy raises a bare Exception on instantiate
+            detail = " | ".join(list(self.messages)[-3:]) if self.messages else str(exc)
             raise MasterError(f"{self.name} FMU: {what} failed: {detail}") from None
 
     def setup(self, start_time: float, stop_time: float | None = None) -> None:
@@ -139,26 +154,30 @@ class FmuComponent(_Base):
     def exit_initialization(self) -> None:
         self._call("exitInitializationMode", self.fmu.exitInitializationMode)
 
+    # fmpy's function wrappers raise FMICallException for any status worse than warning.
     def set_reals(self, port: Port, values: np.ndarray) -> None:
         port.values[:] = values
-        status = self._set(self._c, port.c_vrs, len(port.vrs), port.c_values)
-        if status > 1:
-            self._raise("fmi2SetReal", status)
+        try:
+            self._set(self._c, port.c_vrs, len(port.vrs), port.c_values)
+        except FMICallException:
+            self._raise("fmi2SetReal")
 
     def get_reals(self, port: Port) -> np.ndarray:
-        status = self._get(self._c, port.c_vrs, len(port.vrs), port.c_values)
-        if status > 1:
-            self._raise("fmi2GetReal", status)
+        try:
+            self._get(self._c, port.c_vrs, len(port.vrs), port.c_values)
+        except FMICallException:
+            self._raise("fmi2GetReal")
         return port.values.copy()
 
     def do_step(self, t: float, h: float) -> None:
-        status = self._step(self._c, t, h, 1)
-        if status > 1:
-            self._raise(f"fmi2DoStep at t = {t:g} s", status)
+        try:
+            self._step(self._c, t, h, 1)
+        except FMICallException:
+            self._raise(f"fmi2DoStep at t = {t:g} s")
 
-    def _raise(self, what: str, status: int) -> None:
-        detail = self.messages[-1] if self.messages else f"status {status}"
-        raise MasterError(f"{self.name} FMU: {what} failed: {detail}")
+    def _raise(self, what: str) -> None:
+        detail = self.messages[-1] if self.messages else "no message from the FMU"
+        raise MasterError(f"{self.name} FMU: {what} failed: {detail}") from None
 
     def get_state(self) -> Any:
         return self._call("getFMUstate", self.fmu.getFMUstate)
@@ -181,6 +200,8 @@ class FmuComponent(_Base):
             self.fmu.freeInstance()
         except Exception:  # noqa: BLE001 - best effort on shutdown
             pass
+        _forget_path(Path(self._unzip) / "resources")  # PythonFMU put it on sys.path
+        _LOGS.pop(self.instance_name, None)
         shutil.rmtree(self._unzip, ignore_errors=True)
 
 
@@ -245,3 +266,10 @@ class InProcessComponent(_Base):
     def terminate(self) -> None:
         self.slave.terminate()
         shutil.rmtree(self._unzip, ignore_errors=True)
+
+
+def _forget_path(folder: Path) -> None:
+    import sys
+
+    while str(folder) in sys.path:
+        sys.path.remove(str(folder))

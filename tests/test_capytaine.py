@@ -1,0 +1,77 @@
+"""Capytaine front end: physics limits, time convention, cache behaviour."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cache_key, cached_database
+from orchestrator.scenario import load_scenario
+from orchestrator.scene import bem_inputs
+
+from .conftest import SCENARIOS
+
+R, D, RHO, G = 2.0, 2.0, 1025.0, 9.81
+
+
+@pytest.fixture(scope="module")
+def small_cylinder(tmp_path_factory):
+    body = BemBody("can", BodyGeometry("vertical_cylinder", radius=R, draft=D, panel_size=0.5), (0.0, 0.0, -1.0))
+    settings = BemSettings(omega=(0.05, 1.0, 2.0), headings_deg=(0.0,), rho=RHO, g=G)
+    cache = tmp_path_factory.mktemp("bem_cache")
+    hdb, path, computed = cached_database([body], settings, cache)
+    return body, settings, cache, hdb, path, computed
+
+
+def test_hydrostatics_and_volume_match_geometry(small_cylinder) -> None:
+    *_, hdb, _, computed = small_cylinder
+    assert computed
+    assert hdb.displaced_volume[0] == pytest.approx(math.pi * R**2 * D, rel=0.015)
+    assert hdb.hydrostatic_stiffness[0, 2, 2] == pytest.approx(RHO * G * math.pi * R**2, rel=0.015)
+    # Pitch about the cg: rho g (I_wp + V (z_b - z_g)) with I_wp = pi R^4 / 4, z_b = -D/2, z_g = -1.
+    c55 = RHO * G * (math.pi * R**4 / 4 + math.pi * R**2 * D * (-D / 2 + 1.0))
+    # The waterline is an inscribed 26-gon (I_wp 2 % low) and Capytaine integrates it by quadrature.
+    assert hdb.hydrostatic_stiffness[0, 4, 4] == pytest.approx(c55, rel=0.04)
+
+
+def test_long_wave_limit_and_time_convention(small_cylinder) -> None:
+    """At k R << 1 (long waves): the heave excitation tends to rho g A_wp, in phase with the
+    elevation; the surge Froude-Krylov force to i k rho g V and the total surge force to
+    i k g (rho V + A_11) (G. I. Taylor's long-wave result), leading the elevation by 90 deg in the
+    exp(+i w t) convention."""
+    *_, hdb, _, _ = small_cylinder
+    x = hdb.excitation[0, 0]  # omega = 0.05 rad/s, k R = 5e-4
+    k = 0.05**2 / G
+    assert x[2] == pytest.approx(hdb.hydrostatic_stiffness[0, 2, 2], rel=0.01)
+    assert hdb.froude_krylov[0, 0, 0] == pytest.approx(1j * k * RHO * G * hdb.displaced_volume[0], rel=0.01)
+    expected = 1j * k * G * (RHO * hdb.displaced_volume[0] + hdb.added_mass[0, 0, 0])
+    assert x[0] == pytest.approx(expected, rel=0.02)
+
+
+def test_radiation_coefficients_are_physical(small_cylinder) -> None:
+    *_, hdb, _, _ = small_cylinder
+    for k in range(len(hdb.omega)):
+        assert np.all(np.linalg.eigvalsh((hdb.radiation_damping[k] + hdb.radiation_damping[k].T) / 2) > -1e-3 * np.abs(
+            hdb.radiation_damping[k]).max())
+    assert hdb.added_mass_inf[2, 2] > 0
+
+
+def test_second_call_hits_the_cache(small_cylinder) -> None:
+    body, settings, cache, hdb, path, _ = small_cylinder
+    again, path2, computed = cached_database([body], settings, cache)
+    assert not computed and path2 == path
+    np.testing.assert_array_equal(again.added_mass, hdb.added_mass)
+    other = BemSettings(omega=(0.05, 1.0), rho=RHO, g=G)
+    assert cache_key([body], other) != cache_key([body], settings)
+
+
+@pytest.mark.parametrize("name", ["cylinder_regular", "disc_decay"])
+def test_bundled_scenarios_ship_their_database(name) -> None:
+    """The committed database is the one the scenario asks for: a fresh run needs no BEM solve."""
+    scenario = load_scenario(SCENARIOS / f"{name}.toml")
+    bodies, settings = bem_inputs(scenario)
+    key = cache_key(bodies, settings)
+    files = list((SCENARIOS / scenario.hydro.cache_dir).glob(f"*-{key}.h5"))
+    assert files, f"no cached database with key {key} for {name}; run `wec-cosim hydro scenarios/{name}.toml`"

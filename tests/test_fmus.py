@@ -1,0 +1,85 @@
+"""The FMUs as third-party FMI hosts see them: validation, variables, state, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.validation import validate_fmu
+
+from orchestrator.errors import MasterError
+from orchestrator.fmu_builder import build_scene_fmus
+from orchestrator.masters import JacobiMaster
+from orchestrator.scenario import load_scenario
+from orchestrator.scene import HYDRO, MBD, load_scene
+from orchestrator.simulation import Recorder, make_components
+
+from .conftest import SCENARIOS
+
+
+@pytest.fixture(scope="module")
+def cylinder():
+    scene = load_scene(load_scenario(SCENARIOS / "cylinder_regular.toml"), log=None)
+    return scene, build_scene_fmus(scene)
+
+
+def test_fmus_pass_fmpy_validate(cylinder) -> None:
+    _, fmus = cylinder
+    for path in fmus.values():
+        assert validate_fmu(str(path)) == []
+
+
+def test_model_structure_declares_feedthrough_and_initial_unknowns(cylinder) -> None:
+    _, fmus = cylinder
+    hydro = read_model_description(str(fmus[HYDRO]))
+    mbd = read_model_description(str(fmus[MBD]))
+    deps = {u.variable.name: u.dependencies for u in hydro.outputs}
+    assert {v.name for v in deps["float.F[3]"]} == {"float.x[3]", "float.v[3]"}
+    assert deps["float.F_exc[3]"] == [] and deps["wave.elevation"] == []
+    assert all(u.dependencies == [] for u in mbd.outputs)  # motion outputs are states
+    initial = {u.variable.name for u in hydro.initialUnknowns}
+    assert "A_inf[3,3]" in initial and "float.F[3]" in initial
+    units = {v.name: v.unit for v in hydro.modelVariables}
+    assert units["float.F[3]"] == "N" and units["A_inf[3,3]"] == "kg" and units["wave.elevation"] == "m"
+
+
+@pytest.mark.parametrize("in_process", [False, True])
+def test_rollback_through_fmu_state_reproduces_the_run(cylinder, in_process) -> None:
+    scene, fmus = cylinder
+    comps = make_components(fmus, in_process=in_process)
+    master = JacobiMaster(comps, scene.connections(), 2, Recorder.observed(scene))
+    master.initialize(0.0, 100.0, scene.parameter_links())
+    h = scene.scenario.simulation.step
+    for k in range(1, 201):
+        master.step(h, k * h)
+    checkpoint = master.checkpoint()
+    first = []
+    for k in range(201, 231):
+        master.step(h, k * h)
+        first.append(master.outputs[MBD].copy())
+    master.restore(checkpoint)
+    second = []
+    for k in range(201, 231):
+        master.step(h, k * h)
+        second.append(master.outputs[MBD].copy())
+    np.testing.assert_array_equal(np.array(first), np.array(second))
+    master.terminate()
+
+
+def test_non_finite_value_stops_with_a_named_variable(cylinder) -> None:
+    scene, fmus = cylinder
+    comps = make_components(fmus)
+    master = JacobiMaster(comps, scene.connections(), 2, Recorder.observed(scene))
+    with pytest.raises(MasterError, match=r"mbd: output pto\.force is not finite at t = 0 s"):
+        master.initialize(0.0, 10.0, scene.parameter_links(), parameters={MBD: {"pto.damping": float("nan")}})
+    master.terminate()
+
+
+def test_wrong_step_size_is_reported_by_the_hydro_fmu(cylinder) -> None:
+    scene, fmus = cylinder
+    comps = make_components(fmus)
+    master = JacobiMaster(comps, scene.connections(), 0, Recorder.observed(scene))
+    master.initialize(0.0, 10.0, scene.parameter_links())
+    with pytest.raises(MasterError, match="differs from the radiation convolution step"):
+        master.step(0.37)
+    master.terminate()

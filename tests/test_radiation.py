@@ -1,0 +1,87 @@
+"""Radiation impulse response and memory convolution against closed-form solutions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hydro_fmu.radiation import RadiationMemory, impulse_response
+
+
+def exponential_damping(omega: np.ndarray, a: float = 0.7) -> np.ndarray:
+    """B(w) = w exp(-a w) (zero at w = 0, like radiation damping), so that
+    K(t) = (2/pi) Re[1 / (a - i t)^2] = (2/pi) (a^2 - t^2) / (a^2 + t^2)^2."""
+    return (omega * np.exp(-a * omega))[:, None, None]
+
+
+def exact_kernel(t: np.ndarray, a: float = 0.7) -> np.ndarray:
+    return 2 / np.pi * (a**2 - t**2) / (a**2 + t**2) ** 2
+
+
+def kernel_error(d_omega: float, t: np.ndarray) -> float:
+    omega = np.arange(d_omega, 60.0 + d_omega / 2, d_omega)  # exp(-0.7 * 60) ~ 6e-19: no truncation
+    k = impulse_response(omega, exponential_damping(omega), t)[:, 0, 0]
+    return float(np.max(np.abs(k - exact_kernel(t))))
+
+
+def test_impulse_response_matches_closed_form() -> None:
+    t = np.linspace(0, 60, 601)
+    assert kernel_error(0.01, t) < 1e-5 * exact_kernel(0.0)
+
+
+def test_impulse_response_converges_at_second_order_in_frequency_step() -> None:
+    """Exact integration of the piecewise-linear B: error O(d_omega^2), no aliasing at large t."""
+    t = np.linspace(0, 60, 241)
+    errors = [kernel_error(dw, t) for dw in (0.2, 0.1, 0.05)]
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(orders > 1.8) and np.all(orders < 2.3), orders
+
+
+def test_aliasing_image_is_suppressed() -> None:
+    """The trapezoidal cosine sum repeats K with period 2 pi / d_omega (an image of K(0) appears at
+    t = 2 pi / d_omega); the exact transform of the linear interpolant is that sum times
+    sinc^2(d_omega t / 2), which vanishes there."""
+    d_omega = 0.1
+    omega = np.arange(d_omega, 60.0, d_omega)
+    b = exponential_damping(omega)
+    t_image = np.array([2 * np.pi / d_omega])
+    k = impulse_response(omega, b, t_image)[0, 0, 0]
+    trapezoid = 2 / np.pi * np.sum(b[:, 0, 0] * np.cos(omega * t_image[0])) * d_omega
+    k0 = exact_kernel(np.array([0.0]))[0]
+    assert abs(trapezoid) > 0.5 * k0  # the trapezoidal rule shows the image
+    assert abs(k) < 1e-6 * k0  # the interpolant's transform does not
+
+
+def convolution_error(dt: float) -> float:
+    """mu(t) = int_0^t exp(-(t-s)) sin(s) ds = (sin t - cos t + exp(-t)) / 2, up to t = 10."""
+    n = int(round(40.0 / dt)) + 1
+    kernel = np.exp(-np.arange(n) * dt)[:, None, None]
+    memory = RadiationMemory(kernel, dt)
+    err = 0.0
+    for j in range(int(round(10.0 / dt)) + 1):
+        t = j * dt
+        v = np.array([np.sin(t)])
+        mu = memory.force(v)[0]
+        exact = (np.sin(t) - np.cos(t) + np.exp(-t)) / 2
+        err = max(err, abs(mu - exact))
+        memory.commit(v)
+    return err
+
+
+def test_convolution_is_second_order() -> None:
+    errors = [convolution_error(dt) for dt in (0.1, 0.05, 0.025)]
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert errors[-1] < 1e-4
+    assert np.all(np.abs(orders - 2.0) < 0.15), orders
+
+
+def test_memory_window_forgets_beyond_kernel_length() -> None:
+    """After the kernel length, an old velocity pulse no longer contributes."""
+    dt = 0.1
+    memory = RadiationMemory(np.ones((11, 1, 1)), dt)  # K = 1 on [0, 1 s]
+    memory.commit(np.array([1.0]))
+    for _ in range(9):
+        memory.commit(np.array([0.0]))
+    assert memory.force(np.zeros(1))[0] == pytest.approx(dt / 2)  # pulse at the window's end: half weight
+    memory.commit(np.array([0.0]))
+    assert memory.force(np.zeros(1))[0] == 0.0
