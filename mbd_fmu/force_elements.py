@@ -9,9 +9,10 @@ from dataclasses import dataclass
 class LinearPTO:
     """Linear power take-off between one degree of freedom of a body and the ground.
 
-    Force on the body ``F = -k x - c v`` (N or N m) for displacement ``x`` and velocity ``v`` of
-    that degree of freedom; absorbed power ``P = -F v = k x v + c v^2`` (W), whose mean over a
-    period is ``c <v^2>`` since the spring part averages to zero.
+    Force on the body ``F = -k x - c v + u`` (N or N m) for displacement ``x`` and velocity ``v``
+    of that degree of freedom and a commanded force ``u``; absorbed power ``P = -F v`` (W). With
+    ``u = 0`` the mean over a period is ``c <v^2>`` since the spring part averages to zero.
+    ``k``, ``c`` and ``u`` are the controllable part: a controller changes them between steps.
 
     Attributes:
         name: identifier (FMI variable prefix).
@@ -26,9 +27,10 @@ class LinearPTO:
     dof: int
     stiffness: float = 0.0
     damping: float = 0.0
+    force_command: float = 0.0
 
     def force(self, x: float, v: float) -> float:
-        return -self.stiffness * x - self.damping * v
+        return -self.stiffness * x - self.damping * v + self.force_command
 
     def power(self, x: float, v: float) -> float:
         return -self.force(x, v) * v

@@ -3,12 +3,14 @@
 Generalised coordinates q are the active degrees of freedom of all bodies, body after body.
 The equations of motion are
 
-    (M + A_inf) q'' + C_pto q' + K_pto q = F(t),
+    (M + A_inf) q'' + C_pto q' + K_pto q = F(t) + u_pto,
 
 with M the block-diagonal rigid-body mass matrix, A_inf the infinite-frequency added mass
-(full matrix between the hydrodynamic bodies' coordinates, cross-body blocks included) and F the
-external force input (from the hydrodynamics FMU). Gravity acts at each centre of gravity and so
-has no moment there; its constant part balances the mean buoyancy and is left out.
+(full matrix between the hydrodynamic bodies' coordinates, cross-body blocks included), F the
+external force input (from the hydrodynamics FMU) and u_pto the PTOs' commanded forces. PTO
+stiffness, damping and force commands may change between steps (:meth:`set_pto_commands`).
+Gravity acts at each centre of gravity and so has no moment there; its constant part balances
+the mean buoyancy and is left out.
 
 Integration: :class:`ZeroOrderHoldStepper` - the exact solution over a step for an input held
 constant during the step (matrix exponential of the first-order system). No truncation error,
@@ -68,7 +70,7 @@ class LinearMultibodySystem:
         added_mass_coordinates: list[tuple[str, int]] | None = None,
     ) -> None:
         self.bodies = bodies
-        self.ptos = ptos
+        self.ptos = list(ptos)
         self.coordinates = [(b.name, d) for b in bodies for d in b.dofs]
         self._position = {c: i for i, c in enumerate(self.coordinates)}
         n = len(self.coordinates)
@@ -80,21 +82,43 @@ class LinearMultibodySystem:
         if added_mass_inf is not None:
             idx = [self.coordinate_index(*c) for c in added_mass_coordinates or []]
             self.added_mass[np.ix_(idx, idx)] = added_mass_inf
-        self.stiffness = np.zeros((n, n))
-        self.damping = np.zeros((n, n))
-        self._pto_index = []
-        for p in ptos:
-            i = self.coordinate_index(p.body, p.dof)
-            self.stiffness[i, i] += p.stiffness
-            self.damping[i, i] += p.damping
-            self._pto_index.append(i)
+        self._pto_index = [self.coordinate_index(p.body, p.dof) for p in ptos]
         self.mass = self.structural_mass + self.added_mass
-        minv = np.linalg.inv(self.mass)
-        a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ self.stiffness, -minv @ self.damping]])
-        b = np.vstack([np.zeros((n, n)), minv])
-        self.stepper = ZeroOrderHoldStepper(a, b)
+        self._mass_inverse = np.linalg.inv(self.mass)
+        self._steppers: dict[tuple, ZeroOrderHoldStepper] = {}
         self.q = np.zeros(n)
         self.qd = np.zeros(n)
+        self._assemble_ptos()
+
+    def _assemble_ptos(self) -> None:
+        n = self.n
+        self.stiffness = np.zeros((n, n))
+        self.damping = np.zeros((n, n))
+        self.pto_force = np.zeros(n)
+        for p, i in zip(self.ptos, self._pto_index, strict=True):
+            self.stiffness[i, i] += p.stiffness
+            self.damping[i, i] += p.damping
+            self.pto_force[i] += p.force_command
+        key = tuple((p.stiffness, p.damping) for p in self.ptos)
+        if key not in self._steppers:
+            minv = self._mass_inverse
+            a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ self.stiffness, -minv @ self.damping]])
+            b = np.vstack([np.zeros((n, n)), minv])
+            if len(self._steppers) > 16:
+                self._steppers.clear()
+            self._steppers[key] = ZeroOrderHoldStepper(a, b)
+        self.stepper = self._steppers[key]
+
+    def set_pto_commands(self, stiffness: np.ndarray, damping: np.ndarray, force: np.ndarray) -> None:
+        """New PTO stiffness, damping and commanded force (one value per PTO), held from now on."""
+        changed = False
+        for j, p in enumerate(self.ptos):
+            new = LinearPTO(p.name, p.body, p.dof, float(stiffness[j]), float(damping[j]), float(force[j]))
+            if new != p:
+                self.ptos[j] = new
+                changed = True
+        if changed:
+            self._assemble_ptos()
 
     @property
     def n(self) -> int:
@@ -112,7 +136,7 @@ class LinearMultibodySystem:
 
     def step(self, h: float, force: np.ndarray) -> None:
         """Advance by ``h`` (s) with the external force ``force`` (n,) held constant."""
-        z = self.stepper.step(np.concatenate([self.q, self.qd]), force, h)
+        z = self.stepper.step(np.concatenate([self.q, self.qd]), force + self.pto_force, h)
         self.q, self.qd = z[: self.n], z[self.n :]
 
     def pto_forces(self) -> np.ndarray:

@@ -7,9 +7,11 @@ Variables (see ``docs/fmu_variables.md``), for each body ``b`` and active degree
 * outputs ``b.x[i]`` displacement from equilibrium (m, rad), ``b.v[i]`` velocity; ``p.force``
   (force on the body, N or N m) and ``p.power`` (absorbed power, W). No output depends directly
   on an input (no direct feedthrough);
-* parameters ``b.mass``, ``b.inertia[j,k]``, ``b.x0[i]``, ``b.v0[i]``, ``p.stiffness``,
-  ``p.damping``, and ``A_inf[k,l]`` (infinite-frequency added mass in the scene's hydrodynamic
-  DOF numbering, copied from the hydrodynamics FMU's calculated parameters of the same name).
+* inputs ``p.stiffness``, ``p.damping``, ``p.force_command`` (PTO law F = -k x - c v + u; start
+  values from the scenario; a controller may change them between steps);
+* parameters ``b.mass``, ``b.inertia[j,k]``, ``b.x0[i]``, ``b.v0[i]``, and ``A_inf[k,l]``
+  (infinite-frequency added mass in the scene's hydrodynamic DOF numbering, copied from the
+  hydrodynamics FMU's calculated parameters of the same name).
 """
 
 from __future__ import annotations
@@ -68,14 +70,17 @@ class MultibodySlave(VectorSlave):
                            unit=[table[d] for _, d in dofs], description=desc)
 
     def _register_ptos(self) -> None:
-        for p in self.spec["ptos"]:
-            n, rot = p["name"], p["dof"] >= 3
-            self.add_reals(f"{n}.stiffness", [f"{n}.stiffness"], "parameter", [p["stiffness"]],
-                           unit="N.m/rad" if rot else "N/m", description="PTO stiffness")
-            self.add_reals(f"{n}.damping", [f"{n}.damping"], "parameter", [p["damping"]],
-                           unit="N.m.s/rad" if rot else "N.s/m", description="PTO damping")
-        names = [p["name"] for p in self.spec["ptos"]]
-        rot = [p["dof"] >= 3 for p in self.spec["ptos"]]
+        ptos = self.spec["ptos"]
+        names = [p["name"] for p in ptos]
+        rot = [p["dof"] >= 3 for p in ptos]
+        # Stiffness, damping and force command are inputs (start values from the scenario): a
+        # controller may change them between steps; left unconnected they keep their start values.
+        for key, start, units, desc in (
+            ("stiffness", [p["stiffness"] for p in ptos], ["N.m/rad" if r else "N/m" for r in rot], "PTO stiffness"),
+            ("damping", [p["damping"] for p in ptos], ["N.m.s/rad" if r else "N.s/m" for r in rot], "PTO damping"),
+            ("force_command", [0.0] * len(ptos), ["N.m" if r else "N" for r in rot], "PTO commanded force"),
+        ):
+            self.add_reals(f"pto.{key}", [f"{n}.{key}" for n in names], "input", start, unit=units, description=desc)
         self.add_reals("pto.force", [f"{n}.force" for n in names], "output", np.zeros(len(names)),
                        unit=["N.m" if r else "N" for r in rot], description="PTO force on the body")
         self.add_reals("pto.power", [f"{n}.power" for n in names], "output", np.zeros(len(names)),
@@ -107,9 +112,9 @@ class MultibodySlave(VectorSlave):
             for b in self.spec["bodies"]
         ]
         ptos = [
-            LinearPTO(p["name"], p["body"], p["dof"], float(self.array(f"{p['name']}.stiffness")[0]),
-                      float(self.array(f"{p['name']}.damping")[0]))
-            for p in self.spec["ptos"]
+            LinearPTO(p["name"], p["body"], p["dof"], float(k), float(c), float(u))
+            for p, k, c, u in zip(self.spec["ptos"], self.array("pto.stiffness"), self.array("pto.damping"),
+                                  self.array("pto.force_command"), strict=True)
         ]
         m = len(self.spec["hydro_coordinates"])
         self.system = LinearMultibodySystem(
@@ -131,6 +136,9 @@ class MultibodySlave(VectorSlave):
             self.array("pto.power")[:] = self.system.pto_powers()
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if self.system.ptos:
+            self.system.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
+                                         self.array("pto.force_command"))
         self.system.step(step_size, self.array("F"))
         self.mark_outputs_stale()
         return True

@@ -83,3 +83,24 @@ def test_wrong_step_size_is_reported_by_the_hydro_fmu(cylinder) -> None:
     with pytest.raises(MasterError, match="differs from the radiation convolution step"):
         master.step(0.37)
     master.terminate()
+
+
+def test_pto_inputs_drive_the_damper_exactly(cylinder) -> None:
+    """Setting the PTO damping input reproduces a scene built with that damping, to round-off."""
+    scene, fmus = cylinder
+    scenario = load_scenario(SCENARIOS / "cylinder_regular.toml")
+    scenario.ptos[0].damping = 5.0e4
+    other = load_scene(scenario, log=None)
+    other_fmus = build_scene_fmus(other)
+    runs = []
+    for sc, fm, params in ((scene, fmus, None), (other, other_fmus, {MBD: {"pto.damping": 2.0e5}})):
+        comps = make_components(fm)
+        master = JacobiMaster(comps, sc.connections(), 2, Recorder.observed(sc))
+        master.initialize(0.0, 30.0, sc.parameter_links(), parameters=params)
+        out = []
+        for k in range(1, 301):
+            master.step(0.1, 0.1 * k)
+            out.append(master.outputs[MBD].copy())
+        master.terminate()
+        runs.append(np.array(out))
+    np.testing.assert_allclose(runs[1], runs[0], rtol=1e-12, atol=1e-12)

@@ -56,3 +56,17 @@ def test_invalid_bodies_are_rejected(kwargs, message) -> None:
     args = {"name": "b", "mass": 1.0, "inertia": np.eye(3), "cg": np.zeros(3), "dofs": (1, 2)} | kwargs
     with pytest.raises(ValueError, match=message):
         RigidBody(**args)
+
+
+def test_pto_commands_change_the_law_between_steps() -> None:
+    """A constant commanded force u moves the equilibrium to x = u / k; new gains take effect."""
+    sys = oscillator(k=50.0, c=30.0)
+    sys.set_pto_commands(np.array([50.0]), np.array([30.0]), np.array([5.0]))
+    for _ in range(400):
+        sys.step(0.1, np.zeros(1))
+    assert sys.q[0] == pytest.approx(5.0 / 50.0, rel=1e-9)
+    sys.set_pto_commands(np.array([100.0]), np.array([30.0]), np.array([5.0]))
+    for _ in range(400):
+        sys.step(0.1, np.zeros(1))
+    assert sys.q[0] == pytest.approx(5.0 / 100.0, rel=1e-9)
+    assert sys.pto_forces()[0] == pytest.approx(0.0, abs=1e-8)  # at rest the PTO balances its command
