@@ -10,7 +10,7 @@ in F: :attr:`HydroModel.added_mass_inf` is published for the multibody mass matr
 
 Time stepping: inputs (x, v) are samples at communication points; the force at a point uses
 the inputs at that point (direct feedthrough). :meth:`HydroModel.advance` stores the velocity
-of the current point in the radiation history and moves one step of ``dt``.
+of the current point in the radiation history and moves on by a whole number of steps ``dt``.
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ class HydroModel:
         dofs: per body, the active degrees of freedom (0 = surge ... 5 = yaw).
         waves: incident wave components.
         ramp: start-up ramp of the excitation.
-        dt: time step of the radiation convolution (s); communication steps must equal it.
+        dt: time step of the radiation convolution (s); communication steps must be multiples of it.
         irf_duration: length of the impulse response kernel (s).
         switches: force components to compute.
     """
@@ -90,6 +90,7 @@ class HydroModel:
         self.radiation = RadiationMemory(self.kernel, dt)
         self.added_mass_inf = sub.added_mass_inf[np.ix_(self.index, self.index)]
         self.start_time = 0.0
+        self._grid_steps = 0
 
     @property
     def n(self) -> int:
@@ -105,16 +106,19 @@ class HydroModel:
         return HydroForces(total=exc + rad + hs, excitation=exc, radiation=rad, hydrostatic=hs)
 
     def advance(self, t: float, h: float, v: np.ndarray) -> None:
-        """Commit the velocity at time ``t`` and step to ``t + h`` (``h`` must equal ``dt``)."""
-        if abs(h - self.dt) > 1e-9 * self.dt:
+        """Commit the velocity at time ``t`` and step to ``t + h``; ``h`` must be a whole number
+        of radiation steps ``dt`` (any number, so variable communication steps work)."""
+        q = int(round(h / self.dt))
+        if q < 1 or abs(h - q * self.dt) > 1e-9 * self.dt:
             raise ValueError(
-                f"communication step {h:g} s differs from the radiation convolution step {self.dt:g} s; "
-                "set the hydro FMU parameter radiation.dt to the master's macro step"
+                f"communication step {h:g} s is not a whole multiple of the radiation convolution step "
+                f"{self.dt:g} s; set the hydro FMU parameter radiation.dt to the master's (smallest) macro step"
             )
-        expected = self.start_time + self.radiation.steps * self.dt
+        expected = self.start_time + self._grid_steps * self.dt
         if abs(t - expected) > 1e-6 * self.dt:
             raise ValueError(f"step starts at t = {t:g} s but the radiation history is at t = {expected:g} s")
-        self.radiation.commit(v)
+        self.radiation.advance(v, q)
+        self._grid_steps += q
 
     def elevation(self, t: float) -> float:
         """Incident wave elevation at the world origin (m)."""
