@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .transforms import fourier_integral
+
 
 def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> np.ndarray:
     """K(t) (len(t), n, n) from B(omega) (Nw, n, n) by exact integration of the linear interpolant.
@@ -40,20 +42,7 @@ def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> n
     """
     w = np.concatenate([[0.0], np.asarray(omega, dtype=float)])
     B = np.concatenate([np.zeros((1,) + damping.shape[1:]), damping], axis=0)
-    flat = B.reshape(len(w), -1)
-    slope = np.diff(flat, axis=0) / np.diff(w)[:, None]  # (Nw, m)
-    t = np.asarray(t, dtype=float)
-    out = np.empty((len(t), flat.shape[1]))
-    for i, ti in enumerate(t):
-        if ti == 0.0:
-            out[i] = np.trapezoid(flat, w, axis=0)
-            continue
-        s, c = np.sin(w * ti), np.cos(w * ti)
-        # int_a^b (f_a + s (w - a)) cos(w t) dw = [f sin(w t)/t]_a^b + slope [cos(w t)/t^2]_a^b
-        first = (flat[1:] * s[1:, None] - flat[:-1] * s[:-1, None]) / ti
-        second = slope * (c[1:, None] - c[:-1, None]) / ti**2
-        out[i] = np.sum(first + second, axis=0)
-    return (2.0 / np.pi) * out.reshape((len(t),) + damping.shape[1:])
+    return (2.0 / np.pi) * np.real(fourier_integral(w, B, t))
 
 
 class RadiationMemory:
