@@ -88,7 +88,11 @@ class SurfaceMesh:
         from .nonlinear_hydrostatics import clip_below
 
         corners, _ = clip_below(self.corners, np.zeros(self.corners.shape[:2]))
-        return from_corners(corners, self.name)
+        wet = from_corners(corners, self.name)
+        # A corner exactly on the waterline leaves a zero-area sliver: not part of the hull.
+        areas = wet.areas
+        keep = areas > 1e-12 * max(float(areas.max(initial=0.0)), 1e-300)
+        return from_corners(corners[keep], self.name)
 
     def volume_and_centroid(self) -> tuple[float, np.ndarray]:
         """Volume (m^3) and centroid (m) enclosed by the surface and the plane z = 0.
@@ -220,8 +224,14 @@ def _read_with_capytaine(path: Path) -> SurfaceMesh:
 
 
 def from_capytaine(mesh: object, name: str = "") -> SurfaceMesh:
-    """A :class:`SurfaceMesh` from a Capytaine mesh (quadrilaterals split)."""
-    return SurfaceMesh(np.asarray(mesh.vertices), triangulate(np.asarray(mesh.faces)), name)
+    """A :class:`SurfaceMesh` from a Capytaine mesh: quadrilaterals split, coincident vertices
+    merged, and the zero-area triangles that collapsed quadrilaterals (at the axis of Capytaine's
+    primitives) leave behind dropped."""
+    raw = SurfaceMesh(np.asarray(mesh.vertices), triangulate(np.asarray(mesh.faces)), name)
+    merged = _merge_vertices(raw.corners, name)
+    areas = merged.areas
+    keep = areas > 1e-12 * max(float(areas.max(initial=0.0)), 1e-300)
+    return SurfaceMesh(merged.vertices, merged.faces[keep], name)
 
 
 def to_capytaine(mesh: SurfaceMesh, name: str = "") -> object:
@@ -288,19 +298,33 @@ def check_mesh(mesh: SurfaceMesh, body: str, cg: np.ndarray | tuple[float, float
     if wet.n_faces == 0:
         report.errors.append("no panel lies below the waterline z = 0")
         return report
-    areas = wet.areas
-    size = float(np.sqrt(np.median(areas)))
-    degenerate = np.flatnonzero(areas < 1e-10 * max(size**2, 1e-30))
+    size = float(np.sqrt(np.median(wet.areas)))
+    wetted = np.flatnonzero(mesh.corners[:, :, 2].min(axis=1) < 0)
+    degenerate = wetted[mesh.areas[wetted] < 1e-10 * max(size**2, 1e-30)]
     if len(degenerate):
-        report.warnings.append(f"{len(degenerate)} degenerate (zero-area) panels, first at "
-                               f"{_fmt(wet.centres[degenerate[0]])}")
-    pairs = overlapping_coplanar_pairs(mesh.immersed_part())
+        report.warnings.append(f"{len(degenerate)} degenerate (zero-area) panels below the waterline, first at "
+                               f"{_fmt(mesh.centres[degenerate[0]])}")
+    pairs = overlapping_coplanar_pairs(wet)
     report.overlapping_pairs = pairs
     if len(pairs):
         where = wet.centres[pairs[:, 0]]
         report.errors.append(
-            f"{len(pairs)} pairs of overlapping coplanar panels (Capytaine's Green function returns NaN there), "
-            f"near {_places(where)}; remove the duplicated surface from the mesh")
+            f"{len(pairs)} pairs of overlapping coplanar panels near {_places(where)}: the surface is "
+            "covered twice there; remove the duplicated panels")
+    touching = centres_on_other_panels(wet)
+    if len(touching):
+        where = wet.centres[touching[:, 0]]
+        report.errors.append(
+            f"the centres of {len(touching)} panels lie on other panels (non-conforming or intersecting panels), "
+            f"near {_places(where)}: Capytaine's Green function is singular there and returns NaN; make the "
+            "panels meet edge to edge")
+    volumes = _divergence_volumes(wet)
+    if volume > 0 and np.ptp(volumes) > 0.01 * np.max(np.abs(volumes)):
+        report.warnings.append(
+            "the wetted surface is not closed (with the waterplane): the volume from the x, y and z forms of the "
+            f"divergence theorem differs ({', '.join(f'{v:.4g}' for v in volumes)} m^3), so hydrostatics and the "
+            "centre of buoyancy depend on the formula used (Capytaine averages them; here the z form, which the "
+            "missing waterplane does not affect, is used)")
     if volume <= 0:
         report.errors.append(
             f"the enclosed volume is {volume:.4g} m^3: the panel normals point into the body; reverse the "
@@ -317,6 +341,48 @@ def check_mesh(mesh: SurfaceMesh, body: str, cg: np.ndarray | tuple[float, float
             "not in free-floating equilibrium (fine if a joint holds it; otherwise check where the mesh "
             "origin is relative to the cg)")
     return report
+
+
+def _divergence_volumes(mesh: SurfaceMesh) -> np.ndarray:
+    """Enclosed volume from int x n_x, int y n_y and int z n_z dS (equal for a closed surface)."""
+    centres = mesh.centres
+    return np.sum(centres * mesh.area_vectors, axis=0)
+
+
+def centres_on_other_panels(mesh: SurfaceMesh, tolerance: float = 1e-6) -> np.ndarray:
+    """Pairs (i, j): the centre of triangle i lies on triangle j (i != j), within ``tolerance``
+    times j's size. A BEM collocation point on another panel makes the Green function singular."""
+    from scipy.spatial import cKDTree
+
+    c = mesh.corners
+    if len(c) < 2:
+        return np.zeros((0, 2), dtype=int)
+    centres = c.mean(axis=1)
+    radius = np.max(np.linalg.norm(c - centres[:, None, :], axis=2), axis=1)
+    tree = cKDTree(centres)
+    lists = tree.query_ball_point(centres, float(radius.max()) * (1 + 1e-9))
+    i = np.repeat(np.arange(len(c)), [len(x) for x in lists])
+    j = np.concatenate([np.asarray(x, dtype=int) for x in lists])
+    keep = i != j
+    i, j = i[keep], j[keep]
+    p = centres[i]
+    a, b, d = c[j, 0], c[j, 1], c[j, 2]
+    normal = np.cross(b - a, d - a)
+    size = np.linalg.norm(normal, axis=1)
+    ok = size > 0
+    tol = tolerance * radius[j]
+    plane = np.abs(np.einsum("ij,ij->i", p - a, normal)) / np.where(ok, size, 1.0)
+    # Barycentric coordinates of the projection.
+    v0, v1, v2 = b - a, d - a, p - a
+    d00, d01, d11 = (np.einsum("ij,ij->i", x, y) for x, y in ((v0, v0), (v0, v1), (v1, v1)))
+    d20, d21 = np.einsum("ij,ij->i", v2, v0), np.einsum("ij,ij->i", v2, v1)
+    denom = np.where(ok, d00 * d11 - d01 * d01, 1.0)
+    beta = (d11 * d20 - d01 * d21) / denom
+    gamma = (d00 * d21 - d01 * d20) / denom
+    slack = tol / np.where(ok, np.sqrt(size), 1.0)
+    inside = (beta >= -slack) & (gamma >= -slack) & (beta + gamma <= 1 + slack)
+    hit = ok & (plane < tol) & inside
+    return np.stack([i[hit], j[hit]], axis=1)
 
 
 def overlapping_coplanar_pairs(mesh: SurfaceMesh, *, angle_tol: float = 1e-6,

@@ -1,0 +1,274 @@
+"""State-space realisation of the radiation memory, fitted to the impulse response.
+
+The memory force mu(t) = int_0^t K(t - tau) v(tau) dtau is replaced by the output of
+
+    z' = A z + B v,   mu = C z,
+
+whose impulse response C exp(A t) B approximates K(t) (n x n for the n selected DOFs, one
+multi-input multi-output system; no feedthrough, K(0) = C B).
+
+Fit (:func:`fit_state_space`): the eigensystem realisation algorithm (ERA, Kung's Hankel-SVD
+method) on samples K_k = K(k D) with D = pi / (2 omega_max) (four samples per period of the
+highest database frequency), after scaling K by the sizes of its diagonal entries so that
+translations and rotations weigh alike. For an order r the SVD of the block Hankel matrix of the
+samples gives the discrete realisation (Phi, B_d, C); poles outside the unit circle are
+reflected inside (|z| -> 1/|z|, stable poles enforced), the continuous matrix is
+A = log(Phi) / D (exact for samples of a continuous system), and B is refitted by linear least
+squares to the samples with A and C fixed. The order grows (in steps of 2) until the fitted
+kernel's error on the kernel's own time grid is at most the tolerance:
+
+    error = max_ij ||K_ij - K^_ij||_2 / sqrt(||K_ii||_2 ||K_jj||_2).
+
+The fitted model's error against the database is reported too: with K^(omega) =
+C (i omega I - A)^-1 B, B_fit = Re K^ and A_fit = A_inf + Im K^ / omega (``frequency_error``,
+the same scaled maximum over entries, over the database frequencies).
+
+Integration (:class:`StateSpaceMemory`): exact over each step for a velocity that is linear
+between two communication points (first-order hold): z_{n+1} = Phi(h) z_n + G0(h) v_n +
+G1(h) (v_{n+1} - v_n), with Phi, G0, G1 from one matrix exponential of an augmented matrix per
+distinct step h. Any step size, no stability limit (the poles are stable); the force at a
+communication point uses the current velocity through the G1 term (direct feedthrough), like
+the trapezoidal convolution.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import expm, logm
+
+DEFAULT_TOLERANCE = 0.02
+DEFAULT_MAX_ORDER = 60
+
+
+class StateSpaceFitError(ValueError):
+    """No realisation within the order limit meets the tolerance."""
+
+
+@dataclass
+class StateSpaceFit:
+    """A fitted realisation and its errors.
+
+    Attributes:
+        a, b, c: continuous-time matrices (r, r), (r, n), (n, r).
+        order: r.
+        kernel_error: scaled error against the impulse response (module docstring).
+        frequency_error: scaled error of B and A against the database (nan if not evaluated).
+        tolerance: the requested kernel error.
+        history: (order, kernel_error) of every order tried.
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    order: int
+    kernel_error: float
+    tolerance: float
+    frequency_error: float = float("nan")
+    history: list[tuple[int, float]] = field(default_factory=list)
+
+    def impulse_response(self, t: np.ndarray) -> np.ndarray:
+        """C exp(A t) B at the times ``t`` (len(t), n, n)."""
+        lam, vec = np.linalg.eig(self.a)
+        left = self.c @ vec
+        right = np.linalg.solve(vec, self.b)
+        out = np.einsum("ir,tr,rj->tij", left, np.exp(np.outer(t, lam)), right)
+        return np.real(out)
+
+    def transfer(self, omega: np.ndarray) -> np.ndarray:
+        """K^(omega) = C (i omega I - A)^-1 B (len(omega), n, n)."""
+        r = self.order
+        out = np.empty((len(omega), self.c.shape[0], self.b.shape[1]), complex)
+        for k, w in enumerate(omega):
+            out[k] = self.c @ np.linalg.solve(1j * w * np.eye(r) - self.a, self.b)
+        return out
+
+    @property
+    def max_real_pole(self) -> float:
+        """Largest real part of the poles (1/s); negative for a stable fit."""
+        return float(np.max(np.linalg.eigvals(self.a).real)) if self.order else -np.inf
+
+
+def scaled_error(reference: np.ndarray, approximation: np.ndarray) -> float:
+    """max_ij ||R_ij - X_ij||_2 / sqrt(||R_ii||_2 ||R_jj||_2) over the first axis."""
+    norm = np.sqrt(np.sum(reference**2, axis=0))
+    diag = np.sqrt(np.abs(np.diagonal(norm)))
+    diag = np.where(diag > 0, diag, 1.0)
+    err = np.sqrt(np.sum(np.abs(reference - approximation) ** 2, axis=0))
+    scale = np.outer(diag, diag)
+    active = (np.diagonal(norm) > 0)[:, None] & (np.diagonal(norm) > 0)[None, :]
+    rel = np.where(active, err / scale, 0.0)
+    return float(rel.max()) if rel.size else 0.0
+
+
+def fit_state_space(
+    t: np.ndarray,
+    kernel: np.ndarray,
+    omega_max: float,
+    tolerance: float = DEFAULT_TOLERANCE,
+    max_order: int = DEFAULT_MAX_ORDER,
+    kernel_function=None,
+) -> StateSpaceFit:
+    """Fit the lowest even order whose kernel error is within ``tolerance`` (module docstring).
+
+    Args:
+        t, kernel: the impulse response on a uniform grid from 0 (m,), (m, n, n).
+        omega_max: highest frequency in the kernel (rad/s), sets the sampling D = pi / (2 omega_max).
+        tolerance: largest acceptable scaled kernel error.
+        max_order: order limit; :class:`StateSpaceFitError` if no order up to it fits.
+        kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: linear
+            interpolation of ``kernel``).
+    """
+    if not tolerance > 0:
+        raise ValueError(f"state-space tolerance must be positive (got {tolerance})")
+    n = kernel.shape[1]
+    norms = np.sqrt(np.sum(np.abs(np.einsum("tii->ti", kernel)) ** 2, axis=0))
+    scale = np.where(norms > 0, 1.0 / np.sqrt(np.where(norms > 0, norms, 1.0)), 1.0)
+    d = min(np.pi / (2 * omega_max), t[-1] / 8)
+    samples_t = np.arange(0.0, t[-1] + 1e-9 * d, d)
+    if kernel_function is not None:
+        samples = kernel_function(samples_t)
+    else:
+        flat = kernel.reshape(len(t), -1)
+        samples = np.stack([np.interp(samples_t, t, flat[:, j]) for j in range(flat.shape[1])], axis=1)
+        samples = samples.reshape(len(samples_t), n, n)
+    scaled = samples * scale[None, :, None] * scale[None, None, :]
+    h0, h1 = _hankel(scaled)
+    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    history = []
+    best = None
+    limit = min(max_order, int(np.sum(s > s[0] * 1e-12)))
+    for order in range(2, limit + 1, 2):
+        fit = _realise(u, s, vt, h1, order, n, d, scaled)
+        if fit is None:
+            continue
+        a, b, c = fit
+        c = c / scale[:, None]
+        b = b / scale[None, :]
+        err = scaled_error(kernel, _response(a, b, c, t))
+        history.append((order, err))
+        if best is None or err < best[3]:
+            best = (a, b, c, err, order)
+        if err <= tolerance:
+            return StateSpaceFit(a, b, c, order, err, tolerance, history=history)
+    if best is None:
+        raise StateSpaceFitError("no stable state-space realisation could be formed from the impulse response")
+    raise StateSpaceFitError(
+        f"no state-space realisation up to order {max_order} reaches the tolerance {tolerance:g} "
+        f"(best: order {best[4]}, error {best[3]:.3g}); raise hydro.state_space_max_order or the tolerance")
+
+
+def _hankel(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Block Hankel matrices H0 = [K_{i+j}] and H1 = [K_{i+j+1}] (square, as large as the samples allow)."""
+    m, n, _ = samples.shape
+    p = (m - 1) // 2
+    rows = [np.concatenate(list(samples[i : i + p]), axis=1) for i in range(p)]
+    h0 = np.concatenate(rows, axis=0)
+    rows1 = [np.concatenate(list(samples[i + 1 : i + 1 + p]), axis=1) for i in range(p)]
+    h1 = np.concatenate(rows1, axis=0)
+    return h0, h1
+
+
+def _realise(u: np.ndarray, s: np.ndarray, vt: np.ndarray, h1: np.ndarray, order: int, n: int, d: float,
+             samples: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """ERA realisation of ``order`` with stable poles, continuous A, refitted B (scaled units)."""
+    root = np.sqrt(s[:order])
+    ur, vr = u[:, :order], vt[:order].T
+    phi = (ur.T @ h1 @ vr) / np.outer(root, root)
+    c = ur[:n] * root
+    lam, vec = np.linalg.eig(phi)
+    unstable = np.abs(lam) >= 1.0
+    lam = np.where(unstable, lam / np.abs(lam) ** 2 * (1 - 1e-9), lam)
+    if np.any(np.abs(lam) < 1e-12) or np.any((np.abs(lam.imag) < 1e-12) & (lam.real < 0)):
+        return None  # a pole at the Nyquist frequency or at zero has no continuous counterpart
+    log_lam = np.log(lam.astype(complex)) / d
+    a = np.real(vec @ np.diag(log_lam) @ np.linalg.inv(vec))
+    if not np.all(np.isfinite(a)):
+        return None
+    b = _refit_input(a, c, samples, d)
+    return a, b, c
+
+
+def _refit_input(a: np.ndarray, c: np.ndarray, samples: np.ndarray, d: float) -> np.ndarray:
+    """B minimising sum_k ||C exp(A k D) B - K_k||^2 (linear least squares, A and C fixed)."""
+    m, n, _ = samples.shape
+    step = expm(a * d)
+    rows = []
+    power = np.eye(a.shape[0])
+    for _ in range(m):
+        rows.append(c @ power)
+        power = power @ step
+    design = np.concatenate(rows, axis=0)  # (m n, r)
+    target = samples.reshape(m * n, n)
+    b, *_ = np.linalg.lstsq(design, target, rcond=None)
+    return b
+
+
+def _response(a: np.ndarray, b: np.ndarray, c: np.ndarray, t: np.ndarray) -> np.ndarray:
+    lam, vec = np.linalg.eig(a)
+    left = c @ vec
+    right = np.linalg.solve(vec, b)
+    return np.real(np.einsum("ir,tr,rj->tij", left, np.exp(np.outer(t, lam)), right))
+
+
+def frequency_error(fit: StateSpaceFit, omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarray,
+                    added_mass_inf: np.ndarray) -> float:
+    """Scaled error of the fit's A(omega) and B(omega) against the database (module docstring)."""
+    k = fit.transfer(omega)
+    b_fit = k.real
+    a_fit = added_mass_inf[None] + k.imag / omega[:, None, None]
+    # Compare omega (A - A_inf) and B on one scale: both are parts of K^(omega).
+    ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
+    approx = np.concatenate([b_fit, omega[:, None, None] * (a_fit - added_mass_inf[None])], axis=0)
+    return scaled_error(ref, approx)
+
+
+class StateSpaceMemory:
+    """Radiation memory mu(t) by the fitted state space, exact for piecewise-linear velocity.
+
+    Same use as :class:`hydro_fmu.radiation.RadiationMemory`: :meth:`force` with the current
+    velocity at a communication point, then :meth:`step` with that velocity and the step size.
+    """
+
+    def __init__(self, fit: StateSpaceFit) -> None:
+        self.a, self.b, self.c = fit.a, fit.b, fit.c
+        self.r = fit.order
+        self.n = fit.b.shape[1]
+        self.z = np.zeros(self.r)  # state at the last committed point
+        self.v_last = np.zeros(self.n)
+        self.pending = 0.0  # seconds from the last committed point to the current time
+        self._cache: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def matrices(self, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Phi(h), G0(h), G1(h) from exp of [[A h, B h, 0], [0, 0, I], [0, 0, 0]]."""
+        if h not in self._cache:
+            r, n = self.r, self.n
+            aug = np.zeros((r + 2 * n, r + 2 * n))
+            aug[:r, :r] = self.a * h
+            aug[:r, r : r + n] = self.b * h
+            aug[r : r + n, r + n :] = np.eye(n)
+            e = expm(aug)
+            if len(self._cache) > 16:
+                self._cache.clear()
+            self._cache[h] = (e[:r, :r], e[:r, r : r + n], e[:r, r + n :])
+        return self._cache[h]
+
+    def _state_now(self, v_now: np.ndarray) -> np.ndarray:
+        if self.pending == 0.0:
+            return self.z
+        phi, g0, g1 = self.matrices(self.pending)
+        return phi @ self.z + g0 @ self.v_last + g1 @ (v_now - self.v_last)
+
+    def force(self, v_now: np.ndarray) -> np.ndarray:
+        """mu at the current time given the current velocity (N; the radiation force is -mu)."""
+        return self.c @ self._state_now(np.asarray(v_now, dtype=float))
+
+    def step(self, v_now: np.ndarray, h: float) -> None:
+        """Commit the current velocity and move ``h`` seconds on (any h > 0)."""
+        if not h > 0:
+            raise ValueError(f"a step must be positive (got {h})")
+        v_now = np.asarray(v_now, dtype=float)
+        self.z = self._state_now(v_now)
+        self.v_last = v_now.copy()
+        self.pending = float(h)
