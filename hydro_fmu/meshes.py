@@ -242,6 +242,23 @@ def to_capytaine(mesh: SurfaceMesh, name: str = "") -> object:
     return cpt.Mesh(vertices=mesh.vertices, faces=faces, name=name or None)
 
 
+def write_meshes(meshes: dict[str, SurfaceMesh], path: str | Path) -> Path:
+    """Several named meshes as one JSON file (deterministic bytes, so build caches stay valid)."""
+    import json
+
+    data = {name: {"vertices": m.vertices.tolist(), "faces": m.faces.tolist()} for name, m in meshes.items()}
+    Path(path).write_text(json.dumps(data, sort_keys=True))
+    return Path(path)
+
+
+def read_meshes(path: str | Path) -> dict[str, SurfaceMesh]:
+    """The meshes written by :func:`write_meshes`."""
+    import json
+
+    data = json.loads(Path(path).read_text())
+    return {name: SurfaceMesh(np.array(m["vertices"]), np.array(m["faces"]), name) for name, m in data.items()}
+
+
 # ---------------------------------------------------------------------- pose
 def rotation_matrix(rotation_vector: np.ndarray | tuple[float, float, float]) -> np.ndarray:
     """Rotation matrix exp([theta]x) of a rotation vector theta (rad; axis times angle, Rodrigues)."""

@@ -103,11 +103,13 @@ class Sea:
     ramp: Ramp
     record: ElevationRecord | None = None
 
+    def unramped_elevation(self, t: float | np.ndarray) -> float | np.ndarray:
+        """Incident elevation at the world origin (m) without the ramp: the record if imported."""
+        return self.components.elevation(t) if self.record is None else self.record(t)
+
     def elevation(self, t: float | np.ndarray) -> float | np.ndarray:
         """Incident elevation at the world origin (m), ramped."""
-        if self.record is None:
-            return self.components.elevation(t, self.ramp)
-        return self.record(t) * self.ramp(t if np.ndim(t) else float(t))
+        return self.unramped_elevation(t) * self.ramp(t if np.ndim(t) else float(t))
 
 
 def build_sea(spec: SeaSpec) -> Sea:
