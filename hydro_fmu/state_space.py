@@ -14,7 +14,7 @@ translations and rotations weigh alike. For an order r the SVD of the block Hank
 samples gives the discrete realisation (Phi, B_d, C); poles outside the unit circle are
 reflected inside (|z| -> 1/|z|, stable poles enforced), the continuous matrix is
 A = log(Phi) / D (exact for samples of a continuous system), and B is refitted by linear least
-squares to the samples with A and C fixed. The order grows (in steps of 2) until the fitted
+squares to the samples with A and C fixed. The order grows one by one until the fitted
 kernel's error on the kernel's own time grid is at most the tolerance:
 
     error = max_ij ||K_ij - K^_ij||_2 / sqrt(||K_ii||_2 ||K_jj||_2).
@@ -110,15 +110,15 @@ def fit_state_space(
     max_order: int = DEFAULT_MAX_ORDER,
     kernel_function=None,
 ) -> StateSpaceFit:
-    """Fit the lowest even order whose kernel error is within ``tolerance`` (module docstring).
+    """Fit the lowest order whose kernel error is within ``tolerance`` (module docstring).
 
     Args:
         t, kernel: the impulse response on a uniform grid from 0 (m,), (m, n, n).
         omega_max: highest frequency in the kernel (rad/s), sets the sampling D = pi / (2 omega_max).
         tolerance: largest acceptable scaled kernel error.
         max_order: order limit; :class:`StateSpaceFitError` if no order up to it fits.
-        kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: linear
-            interpolation of ``kernel``).
+        kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: every
+            k-th sample of ``kernel``, k dt the largest multiple of its step not above D).
     """
     if not tolerance > 0:
         raise ValueError(f"state-space tolerance must be positive (got {tolerance})")
@@ -126,20 +126,20 @@ def fit_state_space(
     norms = np.sqrt(np.sum(np.abs(np.einsum("tii->ti", kernel)) ** 2, axis=0))
     scale = np.where(norms > 0, 1.0 / np.sqrt(np.where(norms > 0, norms, 1.0)), 1.0)
     d = min(np.pi / (2 * omega_max), t[-1] / 8)
-    samples_t = np.arange(0.0, t[-1] + 1e-9 * d, d)
     if kernel_function is not None:
+        samples_t = np.arange(0.0, t[-1] + 1e-9 * d, d)
         samples = kernel_function(samples_t)
-    else:
-        flat = kernel.reshape(len(t), -1)
-        samples = np.stack([np.interp(samples_t, t, flat[:, j]) for j in range(flat.shape[1])], axis=1)
-        samples = samples.reshape(len(samples_t), n, n)
+    else:  # every k-th sample of the given grid, k dt closest to d from below
+        k = max(1, int(np.floor(d / (t[1] - t[0]) + 1e-9)))
+        d = k * (t[1] - t[0])
+        samples = kernel[::k]
     scaled = samples * scale[None, :, None] * scale[None, None, :]
     h0, h1 = _hankel(scaled)
     u, s, vt = np.linalg.svd(h0, full_matrices=False)
     history = []
     best = None
     limit = min(max_order, int(np.sum(s > s[0] * 1e-12)))
-    for order in range(2, limit + 1, 2):
+    for order in range(1, limit + 1):
         fit = _realise(u, s, vt, h1, order, n, d, scaled)
         if fit is None:
             continue

@@ -104,6 +104,7 @@ class RunResult:
     simulated_time: float
     steps: int
     comparisons: list[Comparison] = field(default_factory=list)
+    radiation: dict = field(default_factory=dict)
 
     @property
     def real_time_factor(self) -> float:
@@ -151,8 +152,10 @@ def run_scenario(
             print(f"\r  t = {t:8.2f} s  ({100 * t / sim.duration:5.1f} %)", end="", file=sys.stderr, flush=True)
 
     start = time.perf_counter()
+    report: dict = {}
     try:
         master.initialize(0.0, sim.duration, scene.parameter_links())
+        report = radiation_report(scenario, components[HYDRO])
         master.run(sim.duration, sim.step, observe)
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start)
@@ -165,11 +168,19 @@ def run_scenario(
         if counter["shown"]:
             print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     wall = time.perf_counter() - start
-    writer.close(status="completed", wall_time=wall)
-    result = RunResult(path, wall, sim.duration, n_steps)
+    writer.close(status="completed", wall_time=wall, attrs={"radiation_model": report})
+    result = RunResult(path, wall, sim.duration, n_steps, radiation=report)
     if scenario.waves.kind == "regular":
         result.comparisons = compare_with_frequency_domain(scene, read_results(path))
     return result
+
+
+def radiation_report(scenario: Scenario, hydro) -> dict:
+    """The hydro FMU's report of its radiation model (method, state-space order and errors)."""
+    names = ["radiation.order", "radiation.fit_error", "radiation.frequency_error"]
+    order, fit_error, frequency_error = (float(v) for v in hydro.get_reals(hydro.port(names)))
+    return {"method": scenario.hydro.radiation_method, "order": int(order), "fit_error": fit_error,
+            "frequency_error": frequency_error}
 
 
 def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
@@ -207,6 +218,13 @@ def format_summary(result: RunResult) -> str:
             lines.append(
                 f"  {c.label:<24}{abs(c.measured):>13.5g} {c.unit:<2}{abs(c.exact):>13.5g} {c.unit:<2}"
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
+    r = result.radiation
+    if r and r.get("method") == "state_space":
+        lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
+                     f"A and B against the database {r['frequency_error']:.3g}")
+    elif r:
+        lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
+                     f"{r['frequency_error']:.3g}")
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")
