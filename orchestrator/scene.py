@@ -133,11 +133,10 @@ class Scene:
                                   for d in _sorted_dofs(b)]
         if scenario.waves.kind != "still":
             try:
-                heading = math.radians(scenario.waves.heading_deg)
-                if scenario.waves.spreading_s > 0:
-                    self.waves()  # every component's heading must be within the database's
-                else:
-                    hdb.excitation_at(hdb.omega[:1], heading)
+                headings = np.unique(self.waves().headings) if scenario.waves.spreading_s > 0 else [
+                    math.radians(scenario.waves.heading_deg)]
+                for heading in headings:  # every component's heading must be within the database's
+                    hdb.excitation_at(hdb.omega[:1], float(heading))
             except HydroDatabaseError as exc:
                 raise ScenarioError(f"{scenario.file}: waves: {exc}") from None
 

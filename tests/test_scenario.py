@@ -42,6 +42,24 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t.replace('name = "float"\n', 'name = "float"\nmass = -3.0\n'), ["bodies[0].mass must be positive"]),
     (lambda t: t.replace("duration = 200.0", ""), ["missing required key 'simulation.duration'"]),
     (lambda t: t.replace('[[ptos]]\nname = "pto"', '[[ptos]]\nname = "float"'), ["name 'float' is used twice"]),
+    (lambda t: t.replace('kind = "regular"', 'kind = "irregular"'), ["kind = 'irregular' needs a positive hs"]),
+    (lambda t: t.replace('kind = "regular"', 'kind = "irregular"\nhs = 2.0'), ["spectrum = 'jonswap' needs a positive tp"]),
+    (lambda t: t.replace('kind = "regular"', 'kind = "irregular"\nhs = 2.0\ntp = 8.0\nspectrum = "ochi"'),
+     ["waves.spectrum", "'ochi' is not one of"]),
+    (lambda t: t.replace('kind = "regular"', 'kind = "elevation"\nelevation_file = "sea.csv"'),
+     ["waves.elevation_file", "sea.csv does not exist"]),
+    (lambda t: t.replace('kind = "regular"', 'kind = "irregular"\nhs = 2.0\ntp = 8.0\nspreading_s = 4.0').replace(
+        "irf_duration = 40.0", 'irf_duration = 40.0\nexcitation_method = "convolution"'), ["needs a unidirectional sea"]),
+    (lambda t: t.replace('dofs = ["heave"]', 'dofs = ["heave"]\ndrag_coefficient = [0, 0, 1, 0, 0, 0]'),
+     ["drag_coefficient and drag_area go together"]),
+    (lambda t: t.replace('dofs = ["heave"]', 'dofs = ["heave"]\nlinear_damping = [0, 0, 1, 0, 0]'),
+     ["bodies[0].linear_damping needs 6 values"]),
+    (lambda t: t.replace("irf_duration = 40.0", "irf_duration = 40.0\nstate_space_tolerance = 1.5"),
+     ["hydro.state_space_tolerance must be between 0 and 1"]),
+    (lambda t: t.replace("irf_duration = 40.0", 'irf_duration = 40.0\nradiation_method = "ss"'),
+     ["hydro.radiation_method", "'ss' is not one of"]),
+    (lambda t: t.replace("panel_size = 0.6", "panel_size = 0.6\nrotation_deg = [0, 90]"),
+     ["geometry.rotation_deg", "expected 3 values"]),
 ])
 def test_invalid_scenarios_name_file_and_key(tmp_path, edit, fragments) -> None:
     path = write(tmp_path, edit(BASE))
