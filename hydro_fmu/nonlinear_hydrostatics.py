@@ -128,8 +128,8 @@ class BodyPressureModel:
         moment = np.cross(points - centre, force_q).sum(axis=(0, 1))
         return np.concatenate([force, moment])
 
-    def forces(self, x: np.ndarray, t: float = 0.0, waves: WaveComponents | None = None,
-               ramp: Ramp = Ramp(), hydrostatics: bool = True, froude_krylov: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def forces(self, x: np.ndarray, t: float = 0.0, waves: WaveComponents | None = None, ramp: Ramp | None = None,
+               hydrostatics: bool = True, froude_krylov: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """(F_hs, F_FK), each (6,), for displacement ``x`` (6,) at time ``t`` (module docstring)."""
         x = np.asarray(x, dtype=float)
         corners = self._corners(x)
@@ -137,7 +137,8 @@ class BodyPressureModel:
         surface = None
         fk = np.zeros(6)
         if froude_krylov and waves is not None and len(waves.omega):
-            model = _IncidentPressure(waves, self.rho, self.g, self.water_depth, ramp(float(t)))
+            ramp_value = ramp(float(t)) if ramp is not None else 1.0
+            model = _IncidentPressure(waves, self.rho, self.g, self.water_depth, ramp_value)
             surface = model.elevation(corners[..., 0], corners[..., 1], t)
             wet, _ = clip_below(corners, surface)
             fk = self._integrate(wet, centre, lambda p: model.pressure(p, t))

@@ -36,7 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import expm, logm
+from scipy.linalg import expm
 
 DEFAULT_TOLERANCE = 0.02
 DEFAULT_MAX_ORDER = 60

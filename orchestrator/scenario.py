@@ -390,7 +390,7 @@ def _check_waves(s: Scenario) -> None:
 def _check_hydro(s: Scenario) -> None:
     f, h = str(s.file), s.hydro
     if (h.nonlinear_hydrostatics or h.nonlinear_froude_krylov):
-        for i, b in enumerate(s.hydro_bodies):
+        for b in s.hydro_bodies:
             if b.geometry is None:
                 raise ScenarioError(
                     f"{f}: bodies[{s.bodies.index(b)}] ({b.name}): the nonlinear hydrostatic/Froude-Krylov force "

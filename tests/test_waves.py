@@ -145,7 +145,8 @@ def jonswap_record(dt: float = 0.1, duration: float = 600.0):
 def test_elevation_record_round_trip_csv_and_hdf5(tmp_path) -> None:
     t, eta = jonswap_record()
     csv = tmp_path / "eta.csv"
-    csv.write_text("# measured at the origin\nt,eta\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(t, eta, strict=True)))
+    rows = "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(t, eta, strict=True))
+    csv.write_text("# measured at the origin\nt,eta\n" + rows)
     h5 = tmp_path / "eta.h5"
     with h5py.File(h5, "w") as f:
         f["time"], f["elevation"] = t, eta
