@@ -215,20 +215,34 @@ class HydroModel:
         self.report.kernel_samples = n_kernel
         added_mass = self.hdb.added_mass[:, self.index][:, :, self.index]
         if o.radiation_method == "convolution":
+            table = self.hdb.radiation_damping[:, self.index][:, :, self.index]
             self.report.frequency_error = _kernel_frequency_error(
-                self.kernel_time, self.kernel, self.hdb.omega, added_mass,
-                self.hdb.radiation_damping[:, self.index][:, :, self.index], self.added_mass_inf)
+                self.kernel_time, self.kernel, self.hdb.omega, added_mass, table, self.added_mass_inf,
+                self._scale_floors(table))
             return RadiationMemory(self.kernel, self.dt)
+        floors = self._scale_floors(self.kernel)
         fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
                               o.state_space_max_order,
-                              kernel_function=lambda t: impulse_response(omega, damping, t))
+                              kernel_function=lambda t: impulse_response(omega, damping, t), floors=floors)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error
         self.report.frequency_error = frequency_error(
             fit, self.hdb.omega, added_mass, self.hdb.radiation_damping[:, self.index][:, :, self.index],
-            self.added_mass_inf)
+            self.added_mass_inf, self._scale_floors(self.hdb.radiation_damping[:, self.index][:, :, self.index]))
         return StateSpaceMemory(fit)
+
+    def _scale_floors(self, table: np.ndarray) -> np.ndarray:
+        """1e-3 of the largest diagonal norm among the DOFs of the same kind (translation, rotation)."""
+        from .state_space import dof_scales
+
+        s = dof_scales(table)
+        rotation = self.index % 6 >= 3
+        floors = np.zeros_like(s)
+        for kind in (rotation, ~rotation):
+            if kind.any():
+                floors[kind] = 1e-3 * s[kind].max()
+        return floors
 
     # ------------------------------------------------------------------ forces
     @property
@@ -289,9 +303,9 @@ class HydroModel:
 
 
 def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,
-                            damping: np.ndarray, added_mass_inf: np.ndarray) -> float:
+                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray) -> float:
     """Scaled error of the truncated, sampled kernel's A(omega), B(omega) against the database."""
-    from .state_space import scaled_error
+    from .state_space import dof_scales, scaled_error
 
     dt = t[1] - t[0]
     w = np.full(len(t), dt)
@@ -299,4 +313,4 @@ def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray
     b = np.einsum("wt,tij->wij", np.cos(np.outer(omega, t)) * w, kernel)
     wa = -np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * w, kernel)
     ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
-    return scaled_error(ref, np.concatenate([b, wa], axis=0))
+    return scaled_error(ref, np.concatenate([b, wa], axis=0), dof_scales(ref, floors))

@@ -81,7 +81,10 @@ class HydroSlave(VectorSlave):
         self._register_body_variables()
         self._register_added_mass()
         self._register_report()
-        self._build_if_changed()
+        try:  # built now so that the calculated parameters are right from the start
+            self._build_if_changed()
+        except ValueError:  # e.g. no state-space fit within the tolerance: reported at initialisation
+            self.model = None
 
     # ------------------------------------------------------------------ variables
     def _register_parameters(self) -> None:

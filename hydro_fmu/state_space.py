@@ -17,7 +17,10 @@ A = log(Phi) / D (exact for samples of a continuous system), and B is refitted b
 squares to the samples with A and C fixed. The order grows one by one until the fitted
 kernel's error on the kernel's own time grid is at most the tolerance:
 
-    error = max_ij ||K_ij - K^_ij||_2 / sqrt(||K_ii||_2 ||K_jj||_2).
+    error = max_ij ||K_ij - K^_ij||_2 / sqrt(s_i s_j),   s_i = max(||K_ii||_2, floor_i),
+
+where the floor (set by the model: 1e-3 of the largest s of the same kind, translation or rotation)
+keeps DOFs that carry only numerical noise (the yaw of an axisymmetric body) from setting the order.
 
 The fitted model's error against the database is reported too: with K^(omega) =
 C (i omega I - A)^-1 B, B_fit = Re K^ and A_fit = A_inf + Im K^ / omega (``frequency_error``,
@@ -39,7 +42,7 @@ import numpy as np
 from scipy.linalg import expm
 
 DEFAULT_TOLERANCE = 0.02
-DEFAULT_MAX_ORDER = 60
+DEFAULT_MAX_ORDER = 100
 
 
 class StateSpaceFitError(ValueError):
@@ -90,15 +93,20 @@ class StateSpaceFit:
         return float(np.max(np.linalg.eigvals(self.a).real)) if self.order else -np.inf
 
 
-def scaled_error(reference: np.ndarray, approximation: np.ndarray) -> float:
-    """max_ij ||R_ij - X_ij||_2 / sqrt(||R_ii||_2 ||R_jj||_2) over the first axis."""
-    norm = np.sqrt(np.sum(reference**2, axis=0))
-    diag = np.sqrt(np.abs(np.diagonal(norm)))
-    diag = np.where(diag > 0, diag, 1.0)
+def dof_scales(reference: np.ndarray, floors: np.ndarray | None = None) -> np.ndarray:
+    """s_i = ||R_ii||_2 over the first axis, raised to ``floors`` (so that a DOF with only numerical
+    noise, e.g. the yaw of an axisymmetric body, is measured against its physical neighbours)."""
+    s = np.sqrt(np.sum(np.abs(np.einsum("tii->ti", reference)) ** 2, axis=0))
+    return s if floors is None else np.maximum(s, floors)
+
+
+def scaled_error(reference: np.ndarray, approximation: np.ndarray, scales: np.ndarray | None = None) -> float:
+    """max_ij ||R_ij - X_ij||_2 / sqrt(s_i s_j) over the first axis (s from :func:`dof_scales`)."""
+    s = dof_scales(reference) if scales is None else np.asarray(scales, dtype=float)
     err = np.sqrt(np.sum(np.abs(reference - approximation) ** 2, axis=0))
-    scale = np.outer(diag, diag)
-    active = (np.diagonal(norm) > 0)[:, None] & (np.diagonal(norm) > 0)[None, :]
-    rel = np.where(active, err / scale, 0.0)
+    active = s > 0
+    pair = np.sqrt(np.outer(np.where(active, s, 1.0), np.where(active, s, 1.0)))
+    rel = np.where(active[:, None] & active[None, :], err / pair, 0.0)
     return float(rel.max()) if rel.size else 0.0
 
 
@@ -109,6 +117,7 @@ def fit_state_space(
     tolerance: float = DEFAULT_TOLERANCE,
     max_order: int = DEFAULT_MAX_ORDER,
     kernel_function=None,
+    floors: np.ndarray | None = None,
 ) -> StateSpaceFit:
     """Fit the lowest order whose kernel error is within ``tolerance`` (module docstring).
 
@@ -119,11 +128,12 @@ def fit_state_space(
         max_order: order limit; :class:`StateSpaceFitError` if no order up to it fits.
         kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: every
             k-th sample of ``kernel``, k dt the largest multiple of its step not above D).
+        floors: lower bounds of the DOF scales of the error measure (:func:`dof_scales`).
     """
     if not tolerance > 0:
         raise ValueError(f"state-space tolerance must be positive (got {tolerance})")
     n = kernel.shape[1]
-    norms = np.sqrt(np.sum(np.abs(np.einsum("tii->ti", kernel)) ** 2, axis=0))
+    norms = dof_scales(kernel, floors)
     scale = np.where(norms > 0, 1.0 / np.sqrt(np.where(norms > 0, norms, 1.0)), 1.0)
     d = min(np.pi / (2 * omega_max), t[-1] / 8)
     if kernel_function is not None:
@@ -146,7 +156,7 @@ def fit_state_space(
         a, b, c = fit
         c = c / scale[:, None]
         b = b / scale[None, :]
-        err = scaled_error(kernel, _response(a, b, c, t))
+        err = scaled_error(kernel, _response(a, b, c, t), norms)
         history.append((order, err))
         if best is None or err < best[3]:
             best = (a, b, c, err, order)
@@ -213,7 +223,7 @@ def _response(a: np.ndarray, b: np.ndarray, c: np.ndarray, t: np.ndarray) -> np.
 
 
 def frequency_error(fit: StateSpaceFit, omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarray,
-                    added_mass_inf: np.ndarray) -> float:
+                    added_mass_inf: np.ndarray, floors: np.ndarray | None = None) -> float:
     """Scaled error of the fit's A(omega) and B(omega) against the database (module docstring)."""
     k = fit.transfer(omega)
     b_fit = k.real
@@ -221,7 +231,7 @@ def frequency_error(fit: StateSpaceFit, omega: np.ndarray, added_mass: np.ndarra
     # Compare omega (A - A_inf) and B on one scale: both are parts of K^(omega).
     ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
     approx = np.concatenate([b_fit, omega[:, None, None] * (a_fit - added_mass_inf[None])], axis=0)
-    return scaled_error(ref, approx)
+    return scaled_error(ref, approx, dof_scales(ref, floors))
 
 
 class StateSpaceMemory:
@@ -229,46 +239,60 @@ class StateSpaceMemory:
 
     Same use as :class:`hydro_fmu.radiation.RadiationMemory`: :meth:`force` with the current
     velocity at a communication point, then :meth:`step` with that velocity and the step size.
+    The update is one matrix-vector product with [Phi, G0 - G1, G1] (r x (r + 2n)) acting on
+    w = (z, v_last, v_now), and the force one with C times that matrix, both cached per step size.
     """
 
     def __init__(self, fit: StateSpaceFit) -> None:
         self.a, self.b, self.c = fit.a, fit.b, fit.c
         self.r = fit.order
         self.n = fit.b.shape[1]
-        self.z = np.zeros(self.r)  # state at the last committed point
-        self.v_last = np.zeros(self.n)
+        # w = (state at the last committed point, velocity there, current velocity)
+        self.w = np.zeros(self.r + 2 * self.n)
         self.pending = 0.0  # seconds from the last committed point to the current time
-        self._cache: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+
+    @property
+    def z(self) -> np.ndarray:
+        """State at the last committed point."""
+        return self.w[: self.r]
 
     def matrices(self, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Phi(h), G0(h), G1(h) from exp of [[A h, B h, 0], [0, 0, I], [0, 0, 0]]."""
+        r, n = self.r, self.n
+        aug = np.zeros((r + 2 * n, r + 2 * n))
+        aug[:r, :r] = self.a * h
+        aug[:r, r : r + n] = self.b * h
+        aug[r : r + n, r + n :] = np.eye(n)
+        e = expm(aug)
+        return e[:r, :r], e[:r, r : r + n], e[:r, r + n :]
+
+    def _update(self, h: float) -> tuple[np.ndarray, np.ndarray]:
+        """(M, C M) with M = [Phi, G0 - G1, G1] for the step h (identity on z for h = 0)."""
         if h not in self._cache:
             r, n = self.r, self.n
-            aug = np.zeros((r + 2 * n, r + 2 * n))
-            aug[:r, :r] = self.a * h
-            aug[:r, r : r + n] = self.b * h
-            aug[r : r + n, r + n :] = np.eye(n)
-            e = expm(aug)
+            if h == 0.0:
+                m = np.zeros((r, r + 2 * n))
+                m[:, :r] = np.eye(r)
+            else:
+                phi, g0, g1 = self.matrices(h)
+                m = np.concatenate([phi, g0 - g1, g1], axis=1)
             if len(self._cache) > 16:
                 self._cache.clear()
-            self._cache[h] = (e[:r, :r], e[:r, r : r + n], e[:r, r + n :])
+            self._cache[h] = (m, self.c @ m)
         return self._cache[h]
-
-    def _state_now(self, v_now: np.ndarray) -> np.ndarray:
-        if self.pending == 0.0:
-            return self.z
-        phi, g0, g1 = self.matrices(self.pending)
-        return phi @ self.z + g0 @ self.v_last + g1 @ (v_now - self.v_last)
 
     def force(self, v_now: np.ndarray) -> np.ndarray:
         """mu at the current time given the current velocity (N; the radiation force is -mu)."""
-        return self.c @ self._state_now(np.asarray(v_now, dtype=float))
+        self.w[self.r + self.n :] = v_now
+        return self._update(self.pending)[1] @ self.w
 
     def step(self, v_now: np.ndarray, h: float) -> None:
         """Commit the current velocity and move ``h`` seconds on (any h > 0)."""
         if not h > 0:
             raise ValueError(f"a step must be positive (got {h})")
-        v_now = np.asarray(v_now, dtype=float)
-        self.z = self._state_now(v_now)
-        self.v_last = v_now.copy()
+        r, n = self.r, self.n
+        self.w[r + n :] = v_now
+        self.w[:r] = self._update(self.pending)[0] @ self.w
+        self.w[r : r + n] = v_now
         self.pending = float(h)
