@@ -24,6 +24,7 @@ from datetime import date
 from pathlib import Path
 
 import numpy as np
+from common import write_report
 
 from hydro_fmu.model import HydroModel
 from orchestrator.fmu_builder import build_scene_fmus
@@ -106,11 +107,7 @@ def main() -> None:
         f"  total through FMI                               {per['fmi']:8.1f} us"
         f"  ({per['fmi'] / per['physics']:.1f} x the bare physics)",
     ]
-    report = "\n".join(lines)
-    print(report)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(report + "\n")
+    write_report(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -29,6 +29,7 @@ from datetime import date
 from pathlib import Path
 
 import numpy as np
+from common import write_report
 
 from orchestrator.components import FmuComponent
 from orchestrator.fmu_builder import build_scene_fmus
@@ -136,11 +137,7 @@ def main() -> None:
         lines.append(
             f"| {name} | {len(scene.hydro_coordinates)} | {n_vars} | {1e6 * med_m[name]:.1f} | "
             f"{med_m[name] / med_m[base]:.2f} | {1e6 * med_f[name]:.1f} | {med_f[name] / med_f[base]:.2f} |")
-    report = "\n".join(lines)
-    print(report)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(report + "\n")
+    write_report(lines, args.out)
 
 
 def _variables(path: Path) -> list:

@@ -192,7 +192,6 @@ class HydroSlave(VectorSlave):
         model = HydroModel(self.hdb, self.body_names, self.dofs, sea.components, sea.ramp,
                            dt=p["radiation.dt"], irf_duration=p["radiation.irf_duration"], switches=self.switches,
                            options=options, elevation=sea.unramped_elevation)
-        self._log_report(model)
         return model
 
     def _log_report(self, model: HydroModel) -> None:
@@ -218,6 +217,7 @@ class HydroSlave(VectorSlave):
         except ValueError as exc:  # bad parameter values: explain, then let the host see the error
             self.log(str(exc), Fmi2Status.error)
             raise
+        self._log_report(self.model)  # here, not at instantiation: hosts enable logging after that
         self.model.start_time = self.time
         self._ready = True
         self.mark_outputs_stale()

@@ -114,3 +114,19 @@ def test_spread_sea_outside_the_database_headings_is_refused() -> None:
     scenario = cylinder_scenario(kind="irregular", hs=1.0, tp=6.0, spreading_s=2.0, n_directions=5)
     with pytest.raises(ScenarioError, match="outside the tabulated headings"):
         load_scene(scenario, log=None)
+
+
+def test_impulse_response_warnings_reach_the_host_log() -> None:
+    """The disc database's damping is still 11 % of its peak at 6 rad/s: the FMU says so in its log,
+    with the radiation model's report, when it leaves initialisation."""
+    from orchestrator.components import FmuComponent
+
+    scene = load_scene(load_scenario(SCENARIOS / "disc_decay.toml"), log=None)
+    comp = FmuComponent("hydro", build_scene_fmus(scene)[HYDRO])
+    comp.setup(0.0, 1.0)
+    comp.enter_initialization()
+    comp.exit_initialization()
+    text = "\n".join(str(m) for m in comp.messages)
+    comp.terminate()
+    assert "disc heave: B at the highest frequency 6 rad/s is still 11%" in text
+    assert "radiation: convolution over 601 kernel samples" in text
