@@ -29,7 +29,7 @@ import numpy as np
 
 from .hdb import HydroDatabase
 from .transforms import fourier_integral
-from .waves import Ramp, WaveComponents
+from .waves import PhasorClock, Ramp, WaveComponents
 
 
 class ExcitationForce:
@@ -59,13 +59,13 @@ class ExcitationForce:
             self.coefficients = waves.complex_amplitude[keep][:, None] * X[:, dofs]
         else:
             self.coefficients = np.zeros((0, len(dofs)), complex)
+        self.clock = PhasorClock(self.omega)
 
     def __call__(self, t: float) -> np.ndarray:
         """Force vector (N or N m) at time ``t`` (s)."""
         if not len(self.omega):
             return np.zeros(self.coefficients.shape[1])
-        phasor = np.exp(1j * self.omega * t)
-        return self.ramp(t) * np.real(phasor @ self.coefficients)
+        return self.ramp(t) * np.real(self.clock(t) @ self.coefficients)
 
 
 def excitation_impulse_response(hdb: HydroDatabase, heading: float, dofs: np.ndarray, tau: np.ndarray) -> np.ndarray:

@@ -33,7 +33,7 @@ from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, impulse_response, irf_diagnostics, resample_damping
 from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
-from .waves import Ramp, WaveComponents
+from .waves import PhasorClock, Ramp, WaveComponents
 
 RADIATION_METHODS = ("convolution", "state_space")
 EXCITATION_METHODS = ("superposition", "convolution")
@@ -129,8 +129,9 @@ class HydroModel:
         irf_duration: length of the impulse response kernel (s).
         switches: force components to compute.
         options: methods and their settings.
-        elevation: eta(t) at the origin, unramped, vectorised (excitation convolution; default
-            the component sum).
+        record: an imported elevation record eta(t) at the origin (unramped, vectorised), if the sea
+            comes from one: the elevation output and the excitation convolution use it instead of
+            the component sum.
     """
 
     def __init__(
@@ -144,7 +145,7 @@ class HydroModel:
         irf_duration: float,
         switches: ForceSwitches = ForceSwitches(),
         options: HydroOptions = HydroOptions(),
-        elevation=None,
+        record=None,
     ) -> None:
         if not dt > 0:
             raise ValueError(f"radiation time step must be positive (got {dt})")
@@ -163,8 +164,9 @@ class HydroModel:
         self.added_mass_inf = sub.added_mass_inf[np.ix_(self.index, self.index)]
         self.start_time = 0.0
         self._elapsed = 0.0
-        self.elevation_source = elevation
-        self.excitation = self._excitation(elevation) if switches.excitation else None
+        self.record = record
+        self._clock = PhasorClock(waves.omega)
+        self.excitation = self._excitation(record) if switches.excitation else None
         self.hydrostatics = LinearHydrostatics(sub, self.index)
         self.pressure_models = self._pressure_models()
         self.viscous = (ViscousForce(options.viscous) if switches.viscous and options.viscous is not None
@@ -179,7 +181,7 @@ class HydroModel:
         return (o.nonlinear_hydrostatics and self.switches.hydrostatics) or (
             o.nonlinear_froude_krylov and self.switches.excitation)
 
-    def _excitation(self, elevation):
+    def _excitation(self, record):
         o = self.options
         part = "diffraction" if o.nonlinear_froude_krylov else "total"
         if o.excitation_method == "superposition":
@@ -188,7 +190,7 @@ class HydroModel:
             raise ValueError("the excitation convolution cannot be combined with a nonlinear Froude-Krylov force")
         if not self.waves.unidirectional:
             raise ValueError("the excitation convolution needs a unidirectional sea (no directional spreading)")
-        eta = elevation if elevation is not None else (lambda t: self.waves.elevation(t))
+        eta = record if record is not None else self.waves.elevation
         return ExcitationConvolution(self.hdb, self.index, self.waves.main_heading, eta,
                                      o.excitation_irf_duration, self.dt, self.ramp)
 
@@ -297,9 +299,9 @@ class HydroModel:
 
     def elevation(self, t: float) -> float:
         """Incident wave elevation at the world origin (m): the record if imported, else the components."""
-        if self.elevation_source is not None:
-            return float(self.elevation_source(t)) * self.ramp(t)
-        return self.waves.elevation(t, self.ramp)
+        if self.record is not None:
+            return float(self.record(t)) * self.ramp(t)
+        return float(np.real(self._clock(t) @ self.waves.complex_amplitude)) * self.ramp(t)
 
 
 def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,

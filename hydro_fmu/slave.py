@@ -191,7 +191,7 @@ class HydroSlave(VectorSlave):
                                                                      np.array(viscous["quadratic"])))
         model = HydroModel(self.hdb, self.body_names, self.dofs, sea.components, sea.ramp,
                            dt=p["radiation.dt"], irf_duration=p["radiation.irf_duration"], switches=self.switches,
-                           options=options, elevation=sea.unramped_elevation)
+                           options=options, record=sea.record)
         return model
 
     def _log_report(self, model: HydroModel) -> None:

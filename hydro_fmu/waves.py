@@ -106,6 +106,42 @@ class WaveComponents:
         return out
 
 
+class PhasorClock:
+    """exp(i omega_k t) for a sequence of times, cheaply when the times advance by a repeated step.
+
+    A new step delta costs one table exp(i omega delta); each time after that one complex product
+    per component instead of an exponential (exponentials cost ~100-200 ns each here: 1.5 ms per
+    step for the 7400 components of a 3-hour equal-frequency sea). The exact exponential is taken
+    again every ``refresh`` products, so round-off cannot accumulate (< 1e-13 relative).
+    """
+
+    def __init__(self, omega: np.ndarray, refresh: int = 256) -> None:
+        self.omega = np.asarray(omega, dtype=float)
+        self.refresh = refresh
+        self._t = math.nan
+        self._phasor = np.ones(len(self.omega), complex)
+        self._delta = math.nan
+        self._rotation = self._phasor
+        self._count = 0
+
+    def __call__(self, t: float) -> np.ndarray:
+        t = float(t)
+        if t == self._t:
+            return self._phasor
+        delta = t - self._t
+        if self._count < self.refresh and abs(delta - self._delta) <= 1e-12 * max(abs(t), 1.0):
+            self._phasor = self._phasor * self._rotation
+            self._count += 1
+        else:
+            self._phasor = np.exp(1j * self.omega * t)
+            self._count = 0
+            if math.isfinite(delta) and delta != self._delta:
+                self._delta = delta
+                self._rotation = np.exp(1j * self.omega * delta)
+        self._t = t
+        return self._phasor
+
+
 def elevation_at_points(waves: WaveComponents, t: float, x: np.ndarray, y: np.ndarray,
                         water_depth: float = math.inf, g: float = 9.81, ramp: Ramp = Ramp()) -> np.ndarray:
     """Elevation (m) at time ``t`` at the points (x, y) (any matching shapes)."""

@@ -240,7 +240,7 @@ class Scene:
         dofs = [[DOFS.index(d) for d in _sorted_dofs(b)] for b in s.hydro_bodies]
         return HydroModel(self.hdb, self.hydro_bodies, dofs, sea.components, sea.ramp, dt or s.simulation.step,
                           s.hydro.irf_duration, self.switches(), self.hydro_options(),
-                          elevation=sea.unramped_elevation)
+                          record=sea.record)
 
     def hydro_index(self) -> np.ndarray:
         """Index of each hydro coordinate in the database's 6N numbering."""
