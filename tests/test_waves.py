@@ -194,8 +194,9 @@ def test_imported_spectrum_in_hertz_gives_the_same_sea(tmp_path) -> None:
 
 
 def test_phasor_clock_matches_the_exponential_over_long_and_uneven_runs() -> None:
-    """The rotation shortcut of the excitation sum stays exact to round-off: 20 000 steps of 0.1 s
-    (beyond 30 min), then uneven steps and repeated times."""
+    """The rotation shortcut of the excitation sum stays within 32 times the round-off of omega t
+    itself (about 2e-16 * 4 rad/s * 2000 s = 2e-12 here): 20 000 steps of 0.1 s, then uneven steps and
+    repeated times."""
     from hydro_fmu.waves import PhasorClock
 
     omega = np.linspace(0.3, 4.0, 500)
@@ -204,4 +205,4 @@ def test_phasor_clock_matches_the_exponential_over_long_and_uneven_runs() -> Non
     worst = 0.0
     for t in times:
         worst = max(worst, float(np.abs(clock(t) - np.exp(1j * omega * t)).max()))
-    assert worst < 1e-11
+    assert worst < 32 * 2.2e-16 * omega.max() * times[-1]
