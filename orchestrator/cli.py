@@ -4,6 +4,7 @@
     wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
+    wec-cosim controller NAME --run RUN_ID                run an example external controller
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
 status 2; nothing already computed is lost.
@@ -90,6 +91,15 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_controller(args: argparse.Namespace) -> int:
+    from .control.examples import run_example
+
+    try:
+        return run_example(args)
+    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError) as exc:
+        raise WecCosimError(f"controller {args.name!r}: {exc}") from None
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -112,6 +122,10 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("scenario")
     b.add_argument("--out", default="fmus", help="folder for the FMUs (default ./fmus)")
     b.set_defaults(func=cmd_build_fmus)
+    from .control.examples import add_arguments
+
+    c = add_arguments(sub.add_parser("controller", help="run an example external controller (zenoh)"))
+    c.set_defaults(func=cmd_controller)
     return p
 
 

@@ -150,6 +150,47 @@ class RaoSection:
     omega: FrequencyGrid | None = field(default=None, metadata={"doc": "frequencies; default the database grid"})
 
 
+def _limits(value: list[float]) -> str | None:
+    ok = len(value) == 2 and value[0] <= value[1]
+    return None if ok else "needs two values [minimum, maximum] with minimum <= maximum"
+
+
+@dataclass
+class ControlSection:
+    """External controller over zenoh (see docs/control.md)."""
+
+    mode: str = option("off", choices=("off", "lockstep", "realtime"),
+                       doc="`lockstep` (deterministic, waits for each command), `realtime` (paced to the "
+                           "wall clock, never waits) or `off`")
+    run_id: str = option("", doc="key-expression namespace `wec/<run_id>/...`; default the scenario name")
+    period: float | None = option(None, unit="s", check=positive,
+                                  doc="control period, a whole number of macro steps; default the macro step")
+    ptos: list[str] = option(factory=list, doc="PTOs driven by the controller; default all")
+    fallback: str = option("hold", choices=("hold", "passive", "stop"),
+                           doc="on a controller fault: `hold` the last valid command, `passive` damping, or "
+                               "`stop` the run (results kept)")
+    passive_damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative,
+                                    doc="damping of the `passive` fallback")
+    timeout: float = option(1.0, unit="s", check=positive,
+                            doc="lock-step: wall time to wait for a command before it counts as late")
+    connect_timeout: float = option(10.0, unit="s", check=non_negative,
+                                    doc="wall time to wait for the controller at the start")
+    max_age: int = option(5, check=positive,
+                          doc="real time: a command older than this many control periods counts as late")
+    realtime_factor: float = option(1.0, check=positive,
+                                    doc="real time: simulated seconds per wall-clock second (1 = real time)")
+    endpoints: list[str] = option(factory=lambda: ["tcp/127.0.0.1:7447"],
+                                  doc="zenoh endpoints the master listens on (loopback by default)")
+    zenoh_config: str = option("", doc="zenoh configuration file (endpoints, TLS, access control); "
+                                       "replaces `endpoints`; relative to the scenario file")
+    damping_limits: list[float] = option(factory=lambda: [0.0, math.inf], unit="N s/m or N m s/rad",
+                                         allow_inf=True, check=_limits, doc="accepted damping commands")
+    stiffness_limits: list[float] = option(factory=lambda: [-math.inf, math.inf], unit="N/m or N m/rad",
+                                           allow_inf=True, check=_limits, doc="accepted stiffness commands")
+    force_limits: list[float] = option(factory=lambda: [-math.inf, math.inf], unit="N or N m",
+                                       allow_inf=True, check=_limits, doc="accepted force commands")
+
+
 @dataclass
 class Scenario:
     """A scene and how to run it."""
@@ -163,6 +204,7 @@ class Scenario:
     hydro: HydroSection = field(default_factory=HydroSection)
     ptos: list[PtoSection] = field(default_factory=list, metadata={"doc": "power take-offs"})
     rao: RaoSection = field(default_factory=RaoSection)
+    control: ControlSection = field(default_factory=ControlSection)
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
 
@@ -269,6 +311,30 @@ def _check(s: Scenario) -> None:
     sim = s.simulation
     if sim.step > sim.duration:
         raise ScenarioError(f"{f}: simulation.step ({sim.step} s) is longer than the duration ({sim.duration} s)")
+    _check_control(s)
+
+
+def _check_control(s: Scenario) -> None:
+    c, f = s.control, str(s.file)
+    if c.mode == "off":
+        return
+    from .control.protocol import valid_run_id
+
+    if not valid_run_id(c.run_id or s.name):
+        raise ScenarioError(f"{f}: control.run_id {c.run_id or s.name!r} may hold only letters, digits, _ and -")
+    period = c.period or s.simulation.step
+    ratio = period / s.simulation.step
+    if abs(ratio - round(ratio)) > 1e-9 * ratio or round(ratio) < 1:
+        raise ScenarioError(f"{f}: control.period ({period} s) must be a whole number of macro steps "
+                            f"(simulation.step = {s.simulation.step} s)")
+    names = [p.name for p in s.ptos]
+    for p in c.ptos:
+        if p not in names:
+            raise ScenarioError(f"{f}: control.ptos: PTO {p!r} is not defined (ptos: {', '.join(names) or 'none'})")
+    if not names:
+        raise ScenarioError(f"{f}: control is on but the scene has no PTO to drive")
+    if c.zenoh_config and not s.resolve(c.zenoh_config).is_file():
+        raise ScenarioError(f"{f}: control.zenoh_config: file {s.resolve(c.zenoh_config)} does not exist")
 
 
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:

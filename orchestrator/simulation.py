@@ -15,6 +15,7 @@ import numpy as np
 from . import frequency_domain
 from .analysis import harmonic_fit, steady_window, window_mean
 from .components import FmuComponent, InProcessComponent
+from .control.loop import control_loop
 from .errors import MasterError
 from .fmu_builder import build_scene_fmus
 from .masters import JacobiMaster
@@ -132,42 +133,58 @@ def run_scenario(
     components = make_components(fmus, in_process)
     master = JacobiMaster(components, scene.connections(), sim.extrapolation, Recorder.observed(scene))
     recorder = Recorder(scene, master)
+    control = control_loop(scene, master)
+    series = recorder.series | (control.series if control else {})
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
                 "extrapolation": sim.extrapolation, "output_every": sim.output_every,
                 "fmi": "in-process" if in_process else "fmpy", "fmus": {k: str(v) for k, v in fmus.items()}}
-    writer = ResultsWriter(path, recorder.series, {
-        "scenario": scenario.text, "scenario_file": str(scenario.file), "versions": versions(),
-        "settings": settings, "hydro_database": str(scene.hdb_file)})
+    attrs = {"scenario": scenario.text, "scenario_file": str(scenario.file), "versions": versions(),
+             "settings": settings, "hydro_database": str(scene.hdb_file)}
+    if control:
+        attrs["control_manifest"] = control.manifest.to_json()
+    writer = ResultsWriter(path, series, attrs)
     n_steps = int(round(sim.duration / sim.step))
     counter = {"k": 0, "last": time.monotonic(), "shown": False}
 
     def observe(t: float, outputs: dict[str, np.ndarray]) -> None:
         k = counter["k"]
+        if control:
+            control.on_point(t, outputs)
         if k % sim.output_every == 0 or k == n_steps:
-            writer.append(recorder.row(t, outputs))
+            row = recorder.row(t, outputs)
+            writer.append(row | control.row() if control else row)
         counter["k"] = k + 1
         if progress and time.monotonic() - counter["last"] > 2.0:
             counter["last"], counter["shown"] = time.monotonic(), True
             print(f"\r  t = {t:8.2f} s  ({100 * t / sim.duration:5.1f} %)", end="", file=sys.stderr, flush=True)
 
     start = time.perf_counter()
+    final = {}
     try:
+        if control:
+            control.start()
         master.initialize(0.0, sim.duration, scene.parameter_links())
         master.run(sim.duration, sim.step, observe)
     except MasterError as exc:
-        writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start)
+        final = control.close("failed") if control else {}
+        writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start,
+                     attrs={"control_statistics": final} if control else None)
         raise MasterError(f"{exc} (results up to t = {master.time:g} s are in {path})") from None
     except KeyboardInterrupt:
-        writer.close(status="interrupted", wall_time=time.perf_counter() - start)
+        final = control.close("failed") if control else {}
+        writer.close(status="interrupted", wall_time=time.perf_counter() - start,
+                     attrs={"control_statistics": final} if control else None)
         raise
     finally:
         master.terminate()
         if counter["shown"]:
             print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     wall = time.perf_counter() - start
-    writer.close(status="completed", wall_time=wall)
+    if control:
+        final = control.close("finished")
+    writer.close(status="completed", wall_time=wall, attrs={"control_statistics": final} if control else None)
     result = RunResult(path, wall, sim.duration, n_steps)
-    if scenario.waves.kind == "regular":
+    if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
         result.comparisons = compare_with_frequency_domain(scene, read_results(path))
     return result
 

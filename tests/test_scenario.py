@@ -42,6 +42,12 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t.replace('name = "float"\n', 'name = "float"\nmass = -3.0\n'), ["bodies[0].mass must be positive"]),
     (lambda t: t.replace("duration = 200.0", ""), ["missing required key 'simulation.duration'"]),
     (lambda t: t.replace('[[ptos]]\nname = "pto"', '[[ptos]]\nname = "float"'), ["name 'float' is used twice"]),
+    (lambda t: t + '\n[control]\nmode = "lockstep"\nperiod = 0.15\n',
+     ["control.period", "whole number of macro steps"]),
+    (lambda t: t + '\n[control]\nmode = "lockstep"\nptos = ["pump"]\n', ["PTO 'pump' is not defined"]),
+    (lambda t: t + '\n[control]\nmode = "lockstep"\nrun_id = "a/b"\n', ["control.run_id", "letters, digits"]),
+    (lambda t: t + '\n[control]\nmode = "manual"\n', ["control.mode", "'manual' is not one of"]),
+    (lambda t: t + '\n[control]\nmode = "lockstep"\ndamping_limits = [5.0, 1.0]\n', ["control.damping_limits"]),
 ])
 def test_invalid_scenarios_name_file_and_key(tmp_path, edit, fragments) -> None:
     path = write(tmp_path, edit(BASE))
