@@ -137,6 +137,9 @@ class ControlBridge:
             self._status.put(f'{{"state": "{state}"}}')
             time.sleep(0.05)  # let the status reach the controller before the session goes
         finally:
+            # Undeclare explicitly, while the interpreter is healthy, rather than at garbage collection.
+            for entity in (self._liveliness, self._commands, self._queryable, self._publisher, self._status):
+                entity.undeclare()
             self.session.close()
             self.session = None
 
@@ -246,6 +249,9 @@ class ControlBridge:
                 new_latency = arrival - sent
                 self.stats.latencies.append(new_latency)
         if self._latest is None:
+            if fault is None and self._alive.is_set():
+                # Connected but no answer yet (the first instants): the initial commands stand.
+                return Decision(self.last_valid.copy(), SOURCES["hold"], None, math.nan)
             return self._fallback(fault or ("disconnected" if self._ever_connected else "absent"), step)
         age = float(step - self._latest.step)
         if fault is not None:

@@ -108,5 +108,10 @@ class Controller:
 
     def close(self) -> None:
         if self.session is not None:
+            for name in ("_token", "_subscriber", "_status", "_publisher"):
+                entity = getattr(self, name, None)
+                if entity is not None:
+                    entity.undeclare()
+                    setattr(self, name, None)
             self.session.close()
             self.session = None
