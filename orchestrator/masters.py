@@ -485,7 +485,7 @@ class IterativeMaster(GaussSeidelMaster):
         self.name = solver
         self._omega = self.settings.relaxation
         self._past: deque = deque(maxlen=max(0, self.settings.reuse))  # (V, W) of previous steps
-        self._jacobian: np.ndarray | None = None  # interface mode: inverse Newton matrix
+        self._jacobians: dict[tuple, np.ndarray] = {}  # interface mode: inverse Newton matrices by (h, weights)
         self._slices = {}
         k = 0
         for c in self.integrators:
@@ -602,6 +602,7 @@ class IterativeMaster(GaussSeidelMaster):
         rollback (measured at the first step and whenever an update fails to contract), A_inf
         entering through the interface map exactly. Returns the number of evaluations."""
         cap = self.settings.max_iterations
+        key = (round(h, 12), tuple(len(self.history[c]) for c in self.integrators))
         y, _ = self._evaluate(x, h, states, first=True)
         r = y - x
         evaluations = 1
@@ -609,26 +610,30 @@ class IterativeMaster(GaussSeidelMaster):
         while not self._converged(r, y):
             if evaluations >= cap:
                 self._fail(evaluations, r, y)
-            if self._jacobian is None:
-                self._jacobian = self._measure_newton_matrix(x, y, h, states)
+            if key not in self._jacobians:
+                if len(self._jacobians) > 16:
+                    self._jacobians.clear()
+                self._jacobians[key] = self._measure_newton_matrix(x, y, h, states)
                 evaluations += self._n
                 refreshed = True
-            x_new = x - self._jacobian @ r
+            x_new = x - self._jacobians[key] @ r
             y_new, _ = self._evaluate(x_new, h, states, first=False)
             r_new = y_new - x_new
             evaluations += 1
             if np.linalg.norm(r_new) > 0.5 * np.linalg.norm(r) and not refreshed:
-                self._jacobian = None  # stale Jacobian: measure again at this point
+                del self._jacobians[key]  # stale Jacobian: measure again at this point
             x, y, r = x_new, y_new, r_new
         return evaluations
 
     def _measure_newton_matrix(self, x: np.ndarray, y: np.ndarray, h: float, states: dict) -> np.ndarray:
-        """Inverse of J = dS/dx - I by one-sided finite differences (S affine: exact)."""
+        """Inverse of J = dS/dx - I by one-sided finite differences (exact for an affine S, whatever
+        the increment, so the increment is taken large against round-off: 1e-4 of the variable's scale,
+        at least 1e-4 in SI units)."""
         n = self._n
         scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(x))
         jac = np.empty((n, n))
         for j in range(n):
-            dx = 1e-6 * max(scale[j], 1e-6)
+            dx = 1e-4 * max(scale[j], 1.0)
             xp = x.copy()
             xp[j] += dx
             yp, _ = self._evaluate(xp, h, states, first=False)
@@ -638,7 +643,7 @@ class IterativeMaster(GaussSeidelMaster):
     def _state(self) -> dict:
         out = super()._state()
         out["solver"] = {"omega": self._omega, "past": [(v.copy(), w.copy()) for v, w in self._past],
-                         "jacobian": None if self._jacobian is None else self._jacobian.copy()}
+                         "jacobians": {k: v.copy() for k, v in self._jacobians.items()}}
         return out
 
     def _set_state(self, state: dict) -> None:
@@ -647,7 +652,7 @@ class IterativeMaster(GaussSeidelMaster):
         self._omega = s["omega"]
         self._past.clear()
         self._past.extend((v.copy(), w.copy()) for v, w in s["past"])
-        self._jacobian = None if s["jacobian"] is None else s["jacobian"].copy()
+        self._jacobians = {k: v.copy() for k, v in s["jacobians"].items()}
 
 
 class SimpleJacobiMaster(Master):

@@ -143,7 +143,8 @@ def master_settings(scenario: Scenario) -> MasterSettings:
 
 def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None) -> RunPlan:
     """Load the scene, build the FMUs for the scenario's added-mass mode, make the master."""
-    scene = scene or load_scene(scenario, log=log)
+    # A scene given is reused for its database only (the scenario may be a variant of its own).
+    scene = Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None else load_scene(scenario, log=log)
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
