@@ -4,6 +4,9 @@
     wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
+    wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
+    wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
+    wec-cosim plot FILE.h5 [--out DIR]                    PNG figures of a results or RAO file
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
 status 2; nothing already computed is lost.
@@ -90,6 +93,33 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_export_ssp(args: argparse.Namespace) -> int:
+    from .scene import load_scene
+    from .ssp import export_ssp
+
+    scene = load_scene(_scenario(args.scenario))
+    path = export_ssp(scene, args.out)
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
+          f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
+    return 0
+
+
+def cmd_resume(args: argparse.Namespace) -> int:
+    from .simulation import format_summary, resume_run
+
+    result = resume_run(args.results, progress=not args.quiet)
+    print(format_summary(result))
+    return 0
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from .plotting import plot_file
+
+    for path in plot_file(args.file, args.out):
+        print(path)
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -112,6 +142,18 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("scenario")
     b.add_argument("--out", default="fmus", help="folder for the FMUs (default ./fmus)")
     b.set_defaults(func=cmd_build_fmus)
+    e = sub.add_parser("export-ssp", help="write the scene as an SSP archive for other FMI tools")
+    e.add_argument("scenario")
+    e.add_argument("out", help="output .ssp file")
+    e.set_defaults(func=cmd_export_ssp)
+    c = sub.add_parser("resume", help="continue a run from the last checkpoint next to its results file")
+    c.add_argument("results")
+    c.add_argument("--quiet", action="store_true", help="no progress display")
+    c.set_defaults(func=cmd_resume)
+    g = sub.add_parser("plot", help="PNG figures of a results file or a RAO file")
+    g.add_argument("file")
+    g.add_argument("--out", help="folder for the PNG files (default: next to the file)")
+    g.set_defaults(func=cmd_plot)
     return p
 
 

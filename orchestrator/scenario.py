@@ -61,6 +61,11 @@ class SimulationSection:
         doc="degree of the polynomial that gives the multibody FMU's force input over a step, averaged over the "
             "step: extrapolated from past values (jacobi) or interpolated through the end value (gauss_seidel, "
             "iterative); 0 = hold")
+    resolve_feedthrough: bool = option(
+        True,
+        doc="jacobi: set the motion at each communication point into the hydro FMU before reading its force; "
+            "`false` reads every output right after the step, as generic FMI hosts do (fmpy's SSP simulator, "
+            "libcosim fixedStep; first order, needs extrapolation = 0)")
     added_mass: str = option(
         "mass_matrix", choices=ADDED_MASS,
         doc="`mass_matrix`: A_inf in the multibody mass matrix (stable, default); `explicit_force`: A_inf applied "
@@ -341,6 +346,10 @@ def _check_simulation(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: simulation.master = 'monolithic' steps the physics directly with A_inf in the mass matrix and a "
             "fixed step; remove simulation.added_mass and [simulation.adaptive] or choose a co-simulation master")
+    if not sim.resolve_feedthrough and (sim.master != "jacobi" or sim.extrapolation != 0):
+        raise ScenarioError(
+            f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "
+            f"it needs master = 'jacobi' and extrapolation = 0 (got {sim.master!r}, {sim.extrapolation})")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "

@@ -157,7 +157,8 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     else:
         coupling = scene_coupling(scene, sim.added_mass)
         components = make_components(coupling.fmus, in_process)
-        master = make_master(sim.master, components, coupling.connections, master_settings(scenario),
+        kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
+        master = make_master(kind, components, coupling.connections, master_settings(scenario),
                              observe, coupling.added_mass)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
