@@ -7,6 +7,7 @@
     wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
     wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
     wec-cosim plot FILE.h5 [--out DIR]                    PNG figures of a results or RAO file
+    wec-cosim sweep SCENARIO --out FILE                   mean PTO power over the scenario's [sweep] grid
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
 status 2; nothing already computed is lost.
@@ -120,6 +121,25 @@ def cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import run_sweep
+
+    scenario = _scenario(args.scenario)
+    if args.method:
+        scenario.sweep.method = args.method
+    path = run_sweep(scenario, args.out)
+    with h5py.File(path, "r") as f:
+        values, periods = f["values"][()], f["periods"][()]
+        print(f"sweep of {f.attrs['parameter'] or 'wave period'} ({f.attrs['method']}): {path}")
+        for name in f.get("ptos", {}):
+            power = f[f"ptos/{name}/mean_power"][()]
+            print(f"  {name} mean power (kW); rows {f.attrs['parameter'] or '-'}, columns wave period (s)")
+            print("  " + " " * 12 + "".join(f"{p:>10.3g}" for p in periods))
+            for v, row in zip(values, power, strict=True):
+                print(f"  {v:>12.4g}" + "".join(f"{x / 1e3:>10.4g}" for x in row))
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -154,6 +174,11 @@ def parser() -> argparse.ArgumentParser:
     g.add_argument("file")
     g.add_argument("--out", help="folder for the PNG files (default: next to the file)")
     g.set_defaults(func=cmd_plot)
+    w = sub.add_parser("sweep", help="mean PTO power over the scenario's [sweep] grid")
+    w.add_argument("scenario")
+    w.add_argument("--out", required=True, help="output HDF5 file")
+    w.add_argument("--method", choices=("frequency_domain", "time_domain"), help="override sweep.method")
+    w.set_defaults(func=cmd_sweep)
     return p
 
 

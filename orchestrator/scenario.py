@@ -210,6 +210,22 @@ class RaoSection:
 
 
 @dataclass
+class SweepSection:
+    """Parameter sweep for `wec-cosim sweep`: mean PTO power over a grid of one key and wave periods."""
+
+    parameter: str = option(
+        "", doc="key path of the swept value: `section.key` (e.g. `waves.height`) or `ptos.<name>.<key>` / "
+                "`bodies.<name>.<key>` (e.g. `ptos.pto.damping`); empty = only the wave periods")
+    values: list[float] = option(factory=list, doc="values of the swept key (its unit)")
+    periods: list[float] = option(factory=list, unit="s", check=positive,
+                                  doc="regular wave periods; default the scenario's `waves.period`")
+    method: str = option("frequency_domain", choices=("frequency_domain", "time_domain"),
+                         doc="exact linear frequency-domain solution, or a time-domain co-simulation per point "
+                             "(steady state over `simulation.steady_periods`)")
+    workers: int = option(1, check=positive, doc="processes running time-domain points in parallel")
+
+
+@dataclass
 class Scenario:
     """A scene and how to run it."""
 
@@ -222,6 +238,7 @@ class Scenario:
     hydro: HydroSection = field(default_factory=HydroSection)
     ptos: list[PtoSection] = field(default_factory=list, metadata={"doc": "power take-offs"})
     rao: RaoSection = field(default_factory=RaoSection)
+    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
 
