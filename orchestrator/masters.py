@@ -142,6 +142,8 @@ class Master:
     """Common machinery: roles, wiring, resolution at a point, histories, checkpoints."""
 
     name = "master"
+    predicts = False  # keeps the integrators' output history (predictions, explicit added mass)
+    iterates = False  # keeps each interface variable's running maximum (convergence scale)
 
     def __init__(
         self,
@@ -187,6 +189,7 @@ class Master:
         self.last_step = _StepRecord()
         self.iterations: list[int] = []
         self._scale: dict[str, np.ndarray] = {}
+        self._weights_cache: dict[tuple, np.ndarray] = {}
 
     # ------------------------------------------------------------------ set-up
     def _evaluation_order(self, connections: list[Connection]) -> list[str]:
@@ -265,7 +268,8 @@ class Master:
 
     def _read(self, name: str) -> np.ndarray:
         values = self.components[name].get_reals(self.output_ports[name])
-        if not np.all(np.isfinite(values)) or np.max(np.abs(values), initial=0.0) > self.settings.divergence_limit:
+        # One reduction catches NaN (comparison false), infinities and values beyond the limit.
+        if values.size and not np.abs(values).max() <= self.settings.divergence_limit:
             bad = ~np.isfinite(values) | (np.abs(values) > self.settings.divergence_limit)
             var = self.output_names[name][int(np.argmax(bad))]
             what = "is not finite" if not np.isfinite(values[bad][0]) else (
@@ -290,13 +294,23 @@ class Master:
         for name in self.integrators:
             if self.wiring[name].port is not None:
                 self.history[name].appendleft((self.time, self._gather(name, self.outputs)))
-        self.output_history.appendleft((self.time, {c: self.outputs[c].copy() for c in self.integrators}))
-        for c in self.integrators:
-            scale = np.abs(self.outputs[c][: self.n_connected[c]])
-            self._scale[c] = np.maximum(self._scale.get(c, scale), scale)
+        if self.predicts or self.added_mass is not None:
+            self.output_history.appendleft((self.time, {c: self.outputs[c].copy() for c in self.integrators}))
+        if self.iterates:
+            for c in self.integrators:
+                scale = np.abs(self.outputs[c][: self.n_connected[c]])
+                self._scale[c] = np.maximum(self._scale.get(c, scale), scale)
 
     def _weights(self, tau: tuple[float, ...], h: float, point: float | None = None) -> np.ndarray:
-        return step_average_weights(tau, h) if point is None else point_weights(tau, point)
+        """Cached: with fixed steps the same few weight vectors serve the whole run."""
+        key = (tuple(round(x, 12) for x in tau), round(h, 12), point)
+        w = self._weights_cache.get(key)
+        if w is None:
+            w = step_average_weights(tau, h) if point is None else point_weights(tau, point)
+            if len(self._weights_cache) > 256:
+                self._weights_cache.clear()
+            self._weights_cache[key] = w
+        return w
 
     def _extrapolated_input(self, name: str, h: float) -> np.ndarray:
         """Step average over [t_n, t_n + h] of the polynomial through the last p + 1 input samples."""
@@ -305,7 +319,10 @@ class Master:
         if p == 0:
             return hist[0][1].copy()
         w = self._weights(tuple(hist[j][0] - self.time for j in range(p + 1)), h)
-        return sum(w[j] * hist[j][1] for j in range(p + 1))
+        out = w[0] * hist[0][1]
+        for j in range(1, p + 1):
+            out += w[j] * hist[j][1]
+        return out
 
     def _interpolated_input(self, name: str, h: float, u_next: np.ndarray) -> np.ndarray:
         """Step average of the polynomial through u_{n+1} (given) and the last p input samples."""
@@ -442,6 +459,7 @@ class GaussSeidelMaster(Master):
     """Samplers first, integrators after them with interpolated inputs (module docstring)."""
 
     name = "gauss_seidel"
+    predicts = True
 
     def step(self, h: float, end_time: float | None = None) -> None:
         t = self.time
@@ -476,6 +494,8 @@ class IterativeMaster(GaussSeidelMaster):
     and reads their outputs. Samplers step once per macro step (their step consumes only the
     samples at t_n, known exactly).
     """
+
+    iterates = True
 
     def __init__(self, *args, solver: str = "iqn_ils", **kwargs) -> None:
         super().__init__(*args, **kwargs)
