@@ -156,8 +156,6 @@ class Master:
         added_mass: AddedMassForce | None = None,
     ) -> None:
         self.settings = settings or MasterSettings(extrapolation=extrapolation)
-        if settings is None:
-            self.settings.extrapolation = extrapolation
         if self.settings.extrapolation not in (0, 1, 2):
             raise ValueError("extrapolation order must be 0, 1 or 2")
         self.extrapolation = self.settings.extrapolation
@@ -223,6 +221,9 @@ class Master:
     def _prepare_added_mass(self, am: AddedMassForce | None) -> dict | None:
         if am is None:
             return None
+        if am.mode == "interface" and not self.iterates:
+            raise MasterError("the interface added-mass mode is solved within each step: it needs an iterative "
+                              "master (aitken or iqn_ils)")
         comps = {c for c, _ in am.force_inputs}
         if len(comps) != 1 or comps != {c for c, _ in am.velocity_outputs}:
             raise MasterError("the added-mass force must act on the inputs of one integrating component")

@@ -62,15 +62,19 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
         axes[2].plot(t, p / 1e3, label=f"{name} (mean {np.mean(p) / 1e3:.3g} kW)")
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
-    for ax, label in zip(axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
-                         strict=True):
+    fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
+    return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
+                 "time (s)", target)
+
+
+def _save(plt, fig, axes, ylabels: tuple[str, ...], xlabel: str, target: Path) -> Path:  # noqa: ANN001
+    """Label, grid and legend every axis, write the PNG, close the figure."""
+    for ax, label in zip(axes, ylabels, strict=True):
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc="upper right", fontsize=8)
-    axes[-1].set_xlabel("time (s)")
-    status = f.attrs.get("status", "")
-    fig.suptitle(f"{Path(f.filename).name}  ({status})")
+    axes[-1].set_xlabel(xlabel)
     fig.tight_layout()
     fig.savefig(target, dpi=110)
     plt.close(fig)
@@ -89,13 +93,5 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
             axes[1].plot(omega, np.degrees(np.angle(rao[:, j])), label=f"{name} {DOFS[j]}")
     for name in f.get("ptos", {}):
         axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
-    for ax, label in zip(axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"), strict=True):
-        ax.set_ylabel(label)
-        ax.grid(True, alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=8)
-    axes[-1].set_xlabel("wave frequency (rad/s)")
-    fig.tight_layout()
-    fig.savefig(target, dpi=110)
-    plt.close(fig)
-    return target
+    return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
+                 "wave frequency (rad/s)", target)
