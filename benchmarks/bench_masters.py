@@ -5,7 +5,7 @@ extrapolation order 2 (the default) and 1, plus the energy-based adaptive Jacobi
 tolerances (smallest step = radiation grid 0.025 s). Error: largest displacement deviation from
 the Richardson-extrapolated monolithic reference over the whole run (transient included),
 relative to the largest displacement (``orchestrator.study``). Wall time: the median of
-``--repeat`` runs, stepping only (no results file). Prints a table, writes it and a
+``--repeat`` runs, stepping only (no results file, initialisation excluded). Prints a table, writes it and a
 work-precision plot (PNG). Run from the repository root:
 
     python benchmarks/bench_masters.py [--duration 30] [--repeat 3] [--out benchmarks/results/masters]
