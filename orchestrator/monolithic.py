@@ -14,9 +14,9 @@ the radiation convolution, excitation). The implicit equation is solved by Newto
 the Jacobian of the right-hand side measured once per step size by finite differences (exact
 for the linear model: one update converges; the residual is checked every step, tolerance
 1e-12 relative, at the cost of one more multibody step; the force at the accepted state is the
-next step's F_n). Cost per step: two multibody steps and two hydrodynamic force evaluations. Second order (trapezoidal average of the force over the step; the convolution is
-trapezoidal too); A-stable for the linear model, whatever the ratio of A_inf to mass, since nothing
-is explicit.
+next step's F_n). Cost per step: two multibody steps and two hydrodynamic force evaluations.
+Second order (trapezoidal average of the force over the step; the convolution is trapezoidal too);
+A-stable for the linear model, whatever the ratio of A_inf to mass, since nothing is explicit.
 """
 
 from __future__ import annotations
