@@ -193,7 +193,7 @@ def run_scenario(
     sim = scenario.simulation
     path = Path(output or sim.output or Path("results") / f"{scenario.name}.h5")
     writer = ResultsWriter(path, plan.recorder.series, {
-        "scenario": scenario.text, "scenario_file": str(scenario.file), "versions": versions(),
+        "scenario": scenario.text, "scenario_file": str(Path(scenario.file).resolve()), "versions": versions(),
         "settings": plan.settings, "hydro_database": str(plan.scene.hdb_file)}, flush_seconds=sim.flush_seconds)
     state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
     try:
@@ -214,10 +214,13 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     results = Path(results)
     if not results.is_file():
         raise WecCosimError(f"results file {results} does not exist")
-    with h5py.File(results, "r", swmr=True) as f:
-        text = f.attrs["scenario"]
-        scenario_file = Path(f.attrs["scenario_file"])
-        stored = json.loads(f.attrs["settings"])
+    try:
+        with h5py.File(results, "r", swmr=True) as f:
+            text = f.attrs["scenario"]
+            scenario_file = Path(f.attrs["scenario_file"])
+            stored = json.loads(f.attrs["settings"])
+    except (OSError, KeyError, ValueError) as exc:
+        raise WecCosimError(f"{results} is not a wec-cosim results file that can be resumed ({exc})") from None
     saved = read_checkpoint(checkpoint_path(results))
     scenario = parse_scenario(text, scenario_file)
     plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log)

@@ -90,3 +90,12 @@ def test_resume_without_checkpoint_is_a_clear_error(tmp_path) -> None:
     proc = cli("resume", str(path))
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 2 and "no checkpoint" in err and "Traceback" not in err
+
+
+def test_resume_of_a_foreign_file_is_a_clear_error(tmp_path) -> None:
+    path = tmp_path / "foreign.h5"
+    with h5py.File(path, "w") as f:
+        f["x"] = 1.0
+    proc = cli("resume", str(path))
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 2 and "not a wec-cosim results file" in err and "Traceback" not in err
