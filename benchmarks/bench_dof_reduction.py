@@ -21,6 +21,7 @@ Run from the repository root:
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import statistics
 import sys
@@ -125,7 +126,8 @@ def main() -> None:
     lines = [
         f"# command: python benchmarks/bench_dof_reduction.py --steps {args.steps} --repeat {args.repeat}",
         f"# date: {date.today()}  machine: {platform.machine()} python {platform.python_version()}; "
-        f"medians of {args.repeat} interleaved runs of {args.steps} steps",
+        f"medians of {args.repeat} interleaved runs of {args.steps} steps; load average at the end "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores (other jobs share the machine)",
         "# scene: two_cylinders_decay.toml database (12 x 12 interaction), JONSWAP Hs 1.5 m Tp 6 s, 100 components,"
         " step 0.05 s, radiation kernel 40 s",
         "",

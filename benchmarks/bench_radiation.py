@@ -22,6 +22,7 @@ noise hits all variants alike. Run from the repository root:
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import statistics
 import sys
@@ -106,7 +107,8 @@ def main() -> None:
     lines = [
         f"# command: python benchmarks/bench_radiation.py --repeat {args.repeat} --steps {args.steps}",
         f"# date: {date.today()}  machine: {platform.machine()} python {platform.python_version()}, "
-        f"{args.repeat} interleaved repeats, medians",
+        f"{args.repeat} interleaved repeats, medians; load average at the start {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} cores (other jobs share the machine)",
         "",
     ]
     for make in (cylinder_scene, two_body_scene):

@@ -4,6 +4,11 @@
     wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
+    wec-cosim controller NAME --run RUN_ID                run an example external controller
+    wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
+    wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
+    wec-cosim plot FILE.h5 [--out DIR]                    PNG figures of a results or RAO file
+    wec-cosim sweep SCENARIO --out FILE                   mean PTO power over the scenario's [sweep] grid
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
 status 2; nothing already computed is lost.
@@ -90,6 +95,59 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_controller(args: argparse.Namespace) -> int:
+    from .control.examples import run_example
+
+    try:
+        return run_example(args)
+    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError) as exc:
+        raise WecCosimError(f"controller {args.name!r}: {exc}") from None
+def cmd_export_ssp(args: argparse.Namespace) -> int:
+    from .scene import load_scene
+    from .ssp import export_ssp
+
+    scene = load_scene(_scenario(args.scenario))
+    path = export_ssp(scene, args.out)
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
+          f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
+    return 0
+
+
+def cmd_resume(args: argparse.Namespace) -> int:
+    from .simulation import format_summary, resume_run
+
+    result = resume_run(args.results, progress=not args.quiet)
+    print(format_summary(result))
+    return 0
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from .plotting import plot_file
+
+    for path in plot_file(args.file, args.out):
+        print(path)
+    return 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import run_sweep
+
+    scenario = _scenario(args.scenario)
+    if args.method:
+        scenario.sweep.method = args.method
+    path = run_sweep(scenario, args.out)
+    with h5py.File(path, "r") as f:
+        values, periods = f["values"][()], f["periods"][()]
+        print(f"sweep of {f.attrs['parameter'] or 'wave period'} ({f.attrs['method']}): {path}")
+        for name in f.get("ptos", {}):
+            power = f[f"ptos/{name}/mean_power"][()]
+            print(f"  {name} mean power (kW); rows {f.attrs['parameter'] or '-'}, columns wave period (s)")
+            print("  " + " " * 12 + "".join(f"{p:>10.3g}" for p in periods))
+            for v, row in zip(values, power, strict=True):
+                print(f"  {v:>12.4g}" + "".join(f"{x / 1e3:>10.4g}" for x in row))
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -112,6 +170,27 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("scenario")
     b.add_argument("--out", default="fmus", help="folder for the FMUs (default ./fmus)")
     b.set_defaults(func=cmd_build_fmus)
+    from .control.examples import add_arguments
+
+    c = add_arguments(sub.add_parser("controller", help="run an example external controller (zenoh)"))
+    c.set_defaults(func=cmd_controller)
+    e = sub.add_parser("export-ssp", help="write the scene as an SSP archive for other FMI tools")
+    e.add_argument("scenario")
+    e.add_argument("out", help="output .ssp file")
+    e.set_defaults(func=cmd_export_ssp)
+    c = sub.add_parser("resume", help="continue a run from the last checkpoint next to its results file")
+    c.add_argument("results")
+    c.add_argument("--quiet", action="store_true", help="no progress display")
+    c.set_defaults(func=cmd_resume)
+    g = sub.add_parser("plot", help="PNG figures of a results file or a RAO file")
+    g.add_argument("file")
+    g.add_argument("--out", help="folder for the PNG files (default: next to the file)")
+    g.set_defaults(func=cmd_plot)
+    w = sub.add_parser("sweep", help="mean PTO power over the scenario's [sweep] grid")
+    w.add_argument("scenario")
+    w.add_argument("--out", required=True, help="output HDF5 file")
+    w.add_argument("--method", choices=("frequency_domain", "time_domain"), help="override sweep.method")
+    w.set_defaults(func=cmd_sweep)
     return p
 
 

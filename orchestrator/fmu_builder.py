@@ -29,6 +29,8 @@ from hydro_fmu.bemio import write_bemio
 
 from .scene import HYDRO, MBD, Scene
 
+PLAIN_MBD = "plain_mbd"
+
 ROOT = Path(__file__).resolve().parent.parent
 DATABASE_FILE = "hydro_database.h5"
 SPEC_FILE = "scene_spec.json"
@@ -47,6 +49,7 @@ class FmuRecipe:
 RECIPES = {
     HYDRO: FmuRecipe("hydro_fmu", "wec_hydro", "HydroSlave", "WecHydro"),
     MBD: FmuRecipe("mbd_fmu", "wec_mbd", "MultibodySlave", "WecMultibody"),
+    PLAIN_MBD: FmuRecipe("plain_mbd_fmu", "wec_plain_mbd", "PlainMultibodySlave", "WecPlainMultibody"),
 }
 
 
@@ -56,8 +59,13 @@ def cache_dir() -> Path:
     return Path(base) / "fmus"
 
 
-def build_scene_fmus(scene: Scene, out_dir: Path | None = None) -> dict[str, Path]:
-    """Build (or take from the cache) the hydrodynamics and multibody FMUs of ``scene``."""
+def build_scene_fmus(scene: Scene, out_dir: Path | None = None, multibody: str = MBD) -> dict[str, Path]:
+    """Build (or take from the cache) the hydrodynamics and multibody FMUs of ``scene``.
+
+    ``multibody``: ``mbd`` (our multibody FMU, A_inf parameters) or ``plain_mbd`` (the minimal
+    third-party-style FMU without added mass, :mod:`plain_mbd_fmu`); either is the component
+    named ``mbd`` of the returned mapping.
+    """
     out = Path(out_dir) if out_dir else cache_dir()
     with tempfile.TemporaryDirectory(prefix="wec_data_") as tmp:
         db = Path(tmp) / DATABASE_FILE
@@ -65,7 +73,7 @@ def build_scene_fmus(scene: Scene, out_dir: Path | None = None) -> dict[str, Pat
         data = scene.hydro_data_files(Path(tmp))
         return {
             HYDRO: build_fmu(HYDRO, scene.hydro_spec(DATABASE_FILE, data), {DATABASE_FILE: db, **data}, out),
-            MBD: build_fmu(MBD, scene.mbd_spec(), {}, out),
+            MBD: build_fmu(multibody, scene.mbd_spec(), {}, out),
         }
 
 

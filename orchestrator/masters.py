@@ -1,55 +1,115 @@
 """Master algorithms: step co-simulation components and move data between them.
 
-:class:`JacobiMaster` - fixed-step Jacobi (parallel) coupling.
+Roles. A component whose outputs depend directly on its inputs (``feedthrough``, from the FMU's
+``ModelStructure``; here the hydrodynamics FMU) is a *sampler*: its inputs are values at the
+communication points, its step only commits them. A component without feedthrough (the multibody
+FMU) *integrates*: PythonFMU slaves hold every input constant over a step (no input derivatives),
+so the master chooses that constant, the step average of a polynomial of degree
+``p = extrapolation`` through known input values.
 
-At every communication point t_n the master *resolves* the outputs: it reads the outputs of the
-components without direct feedthrough (their outputs are states, e.g. the multibody motion),
-sets the inputs of the feedthrough components from them (the hydrodynamics FMU, whose force
-depends on the current motion) and reads those. All components then step from t_n to t_n + h
-at once, each with inputs built from data at t_n and before.
+Masters (all steps of length h from t_n to t_{n+1}; measured orders in ``docs/masters.md``):
 
-Input extrapolation. An FMI 2 co-simulation slave built with PythonFMU holds its inputs constant
-over a step (it cannot take input derivatives), so the master chooses that constant. For inputs
-of components without feedthrough it uses the *average over the step* of the polynomial of
-degree p through the last p + 1 communication values (p = ``extrapolation``):
+* :class:`JacobiMaster` - every component steps at once with inputs built from data at t_n and
+  before. Integrator inputs: step average of the polynomial through u_n, u_{n-1}, ... (an
+  *extrapolation*); p = 0 is a zero-order hold (global error O(h)), p = 1 and 2 give O(h^2) (a
+  constant input leaves a local O(h^3) position error in a second-order system). Explicit:
+  stable while the exchanged coupling is weak (stiffness and memory damping, A_inf in the
+  multibody mass matrix).
+* :class:`GaussSeidelMaster` - samplers step first, then their outputs at t_{n+1} are computed
+  from the integrators' outputs *predicted* at t_{n+1} (point extrapolation of degree p), and the
+  integrators step with the step average of the polynomial through u_{n+1}, u_n, ... (an
+  *interpolation*). Same orders as Jacobi (1 for p = 0, 2 otherwise), smaller constants.
+* :class:`IterativeMaster` - as Gauss-Seidel, but the integrators' outputs at t_{n+1} are iterated
+  to consistency with rollback through ``fmi2GetFMUstate``/``fmi2SetFMUstate``: fixed point with
+  Aitken's dynamic relaxation (``solver="aitken"``) or the interface quasi-Newton IQN-ILS
+  (Degroote et al. 2009, least-squares secant model from the residual differences of the current
+  and ``reuse`` previous steps; ``solver="iqn_ils"``). Converged, it is the implicit scheme whose
+  integrator input is the step average of the interpolant through the consistent u_{n+1}:
+  order 1 (p = 0) or 2; stable for strong coupling as long as the solver converges. Tolerance:
+  max over interface variables of |residual| / (running max |value|), iteration cap
+  ``max_iterations`` (a :class:`MasterError` beyond it).
+* :class:`SimpleJacobiMaster` - the fixed-step Jacobi of generic FMI hosts (fmpy's SSP
+  simulator, libcosim's fixedStep): zero-order hold, outputs read right after each step (a
+  feedthrough output then uses the inputs of the previous point). Kept to check exported SSP
+  files against; first order.
 
-* p = 0: u_n (zero-order hold); the input lags by h/2: global error O(h);
-* p = 1: u_n + (u_n - u_{n-1})/2;  p = 2: u_n + (u_n - u_{n-1})/2 + 5/12 (u_n - 2u_{n-1} + u_{n-2}).
+Added-mass handling (:class:`AddedMassForce`, the force -A_inf a on the integrators' force
+inputs when A_inf is *not* in the multibody mass matrix): ``explicit`` uses the previous step's
+mean acceleration (mode b: unstable whenever A_inf exceeds the structural mass, at any step);
+``interface`` uses the current step's mean acceleration (v_{n+1} - v_n)/h of the iterate (mode
+c, iterative masters only). In interface mode the step is solved by Newton's method on the
+interface, whose Jacobian is assembled from the known -A_inf/h (exact) and the components'
+sensitivities measured by finite differences through rollback (interface-Jacobian coupling,
+Sicklinger et al. 2014); for linear components one Newton update per step is exact.
 
-For p >= 1 the step average is right to O(h^2) or better, but the input is still constant
-within the step, which leaves a local error O(h^3) in the position of a second-order system:
-the global error is O(h^2) for p = 1 and p = 2 (p = 2 has the smaller constant). Inputs of
-feedthrough components are the exact samples at t_n (they are set during resolution).
-
-Stability: the added-mass coupling is kept out of the exchanged force (A_inf sits in the
-multibody mass matrix), so what is exchanged explicitly is stiffness (hydrostatics) and damping
-(radiation memory). Their explicit treatment adds an O((omega h)^2) per-step growth that the
-physical damping outweighs at the step sizes used (h <= T/20 for the fastest resolved mode).
+Step sizes come from a controller (:mod:`orchestrator.step_control`): fixed, or energy-based
+adaptive (the ECCO idea).
 """
 
 from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .components import Port
 from .errors import MasterError
 from .scene import Connection
+from .step_control import Bond, EnergyStepController, FixedStepController, StepController
+
+__all__ = ["Bond", "EnergyStepController", "FixedStepController", "StepController"]
 
 
 def step_average_weights(tau: Sequence[float], h: float) -> np.ndarray:
     """Weights w_j with sum_j w_j u(tau_j) = (1/h) int_0^h p(s) ds for the interpolant p.
 
-    ``tau`` are the sample times relative to the current time (0, -h1, -h1-h2, ...).
+    ``tau`` are the sample times relative to the current time (0, -h1, -h1-h2, ... for an
+    extrapolation; h, 0, -h1, ... for an interpolation over the step).
     """
     tau = np.asarray(tau, dtype=float)
     m = len(tau)
     vander = tau[:, None] ** np.arange(m)[None, :]
     moments = h ** np.arange(m) / (np.arange(m) + 1.0)
     return np.linalg.solve(vander.T, moments)
+
+
+def point_weights(tau: Sequence[float], s: float) -> np.ndarray:
+    """Weights w_j with sum_j w_j u(tau_j) = p(s) for the interpolant p through (tau_j, u_j)."""
+    tau = np.asarray(tau, dtype=float)
+    m = len(tau)
+    vander = tau[:, None] ** np.arange(m)[None, :]
+    return np.linalg.solve(vander.T, s ** np.arange(m))
+
+
+@dataclass
+class MasterSettings:
+    """How a master steps (see the module docstring)."""
+
+    extrapolation: int = 2
+    tolerance: float = 1e-10
+    max_iterations: int = 50
+    relaxation: float = 0.5
+    reuse: int = 4
+    divergence_limit: float = 1e8
+
+
+@dataclass
+class AddedMassForce:
+    """-A_inf a added to the integrators' force inputs (added-mass modes b and c).
+
+    Attributes:
+        matrix: A_inf (m, m) on the listed coordinates.
+        force_inputs: (component, input name) of each coordinate's force.
+        velocity_outputs: (component, output name) of each coordinate's velocity.
+        mode: ``explicit`` (previous step's acceleration) or ``interface`` (this step's, solved).
+    """
+
+    matrix: np.ndarray
+    force_inputs: list[tuple[str, str]]
+    velocity_outputs: list[tuple[str, str]]
+    mode: str = "explicit"
 
 
 @dataclass
@@ -60,15 +120,20 @@ class _Wiring:
     sources: list[tuple[str, np.ndarray, np.ndarray]]  # (source component, input positions, output positions)
 
 
-class JacobiMaster:
-    """Fixed-step Jacobi master with step-averaged input extrapolation (see the module docstring).
+@dataclass
+class _StepRecord:
+    """What the step controller needs after a step: integrator inputs used, end-point data."""
 
-    Args:
-        components: components by name (:mod:`orchestrator.components`).
-        connections: output -> input links.
-        extrapolation: order p in 0, 1, 2.
-        observe: extra outputs to read at every communication point, per component.
-    """
+    h: float = 0.0
+    inputs: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+class Master:
+    """Common machinery: roles, wiring, resolution at a point, histories, checkpoints."""
+
+    name = "master"
+    predicts = False  # keeps the integrators' output history (predictions, explicit added mass)
+    iterates = False  # keeps each interface variable's running maximum (convergence scale)
 
     def __init__(
         self,
@@ -76,25 +141,42 @@ class JacobiMaster:
         connections: list[Connection],
         extrapolation: int = 2,
         observe: dict[str, list[str]] | None = None,
+        *,
+        settings: MasterSettings | None = None,
+        added_mass: AddedMassForce | None = None,
     ) -> None:
-        if extrapolation not in (0, 1, 2):
+        self.settings = settings or MasterSettings(extrapolation=extrapolation)
+        if self.settings.extrapolation not in (0, 1, 2):
             raise ValueError("extrapolation order must be 0, 1 or 2")
+        self.extrapolation = self.settings.extrapolation
         self.components = components
-        self.extrapolation = extrapolation
+        self.connections = list(connections)
         self.order = self._evaluation_order(connections)
-        # Outputs read at every point: connected ones first, then observed ones.
+        self.samplers = [c for c in self.order if components[c].feedthrough]
+        self.integrators = [c for c in self.order if not components[c].feedthrough]
         names: dict[str, list[str]] = {c: [] for c in components}
         for link in connections:
             if link.source_variable not in names[link.source]:
                 names[link.source].append(link.source_variable)
+        self.n_connected = {c: len(n) for c, n in names.items()}
+        if added_mass is not None:
+            for comp, var in added_mass.velocity_outputs:
+                if var not in names[comp]:
+                    names[comp].append(var)
+                    self.n_connected[comp] += 1
         for c, extra in (observe or {}).items():
             names[c] += [n for n in extra if n not in names[c]]
         self.output_names = names
         self.output_ports = {c: components[c].port(n) for c, n in names.items()}
         self.outputs = {c: np.zeros(len(n)) for c, n in names.items()}
         self.wiring = {c: self._wire(c, connections) for c in components}
-        self.history: dict[str, deque] = {c: deque(maxlen=3) for c in components}
+        self.history: dict[str, deque] = {c: deque(maxlen=3) for c in components}  # input samples
+        self.output_history: deque = deque(maxlen=3)  # (t, {integrator: outputs})
         self.time = 0.0
+        self.added_mass = self._prepare_added_mass(added_mass)
+        self.last_step = _StepRecord()
+        self.iterations: list[int] = []
+        self._scale: dict[str, np.ndarray] = {}
         self._weights_cache: dict[tuple, np.ndarray] = {}
 
     # ------------------------------------------------------------------ set-up
@@ -109,7 +191,7 @@ class JacobiMaster:
             if not ready:
                 raise MasterError(
                     "algebraic loop between feedthrough components " + ", ".join(pending)
-                    + ": a Jacobi master cannot resolve it")
+                    + ": no master here can resolve it")
             ordered += ready
             pending = [c for c in pending if c not in ready]
         return ordered
@@ -126,7 +208,23 @@ class JacobiMaster:
             sources.append((src, np.array(pos), np.array(out)))
         return _Wiring(port, sources)
 
-    # ------------------------------------------------------------------ stepping
+    def _prepare_added_mass(self, am: AddedMassForce | None) -> dict | None:
+        if am is None:
+            return None
+        if am.mode == "interface" and not self.iterates:
+            raise MasterError("the interface added-mass mode is solved within each step: it needs an iterative "
+                              "master (aitken or iqn_ils)")
+        comps = {c for c, _ in am.force_inputs}
+        if len(comps) != 1 or comps != {c for c, _ in am.velocity_outputs}:
+            raise MasterError("the added-mass force must act on the inputs of one integrating component")
+        comp = comps.pop()
+        port = self.wiring[comp].port
+        inputs = [port.names.index(v) for _, v in am.force_inputs]
+        outputs = [self.output_names[comp].index(v) for _, v in am.velocity_outputs]
+        return {"component": comp, "matrix": np.asarray(am.matrix, dtype=float), "inputs": np.array(inputs),
+                "outputs": np.array(outputs), "mode": am.mode}
+
+    # ------------------------------------------------------------------ initialisation
     def initialize(
         self,
         start_time: float,
@@ -151,86 +249,172 @@ class JacobiMaster:
             c.exit_initialization()
         self._resolve()
 
-    def _gather(self, name: str) -> np.ndarray:
+    # ------------------------------------------------------------------ data movement
+    def _gather(self, name: str, outputs: dict[str, np.ndarray]) -> np.ndarray:
         w = self.wiring[name]
         u = np.empty(len(w.port.vrs))
         for src, pos, out in w.sources:
-            u[pos] = self.outputs[src][out]
+            u[pos] = outputs[src][out]
         return u
+
+    def _read(self, name: str) -> np.ndarray:
+        values = self.components[name].get_reals(self.output_ports[name])
+        # One reduction catches NaN (comparison false), infinities and values beyond the limit.
+        if values.size and not np.abs(values).max() <= self.settings.divergence_limit:
+            bad = ~np.isfinite(values) | (np.abs(values) > self.settings.divergence_limit)
+            var = self.output_names[name][int(np.argmax(bad))]
+            what = "is not finite" if not np.isfinite(values[bad][0]) else (
+                f"exceeds {self.settings.divergence_limit:g} in magnitude")
+            raise MasterError(
+                f"{name}: output {var} {what} at t = {self.time:g} s; the coupled system diverged or was "
+                "given invalid inputs (try a smaller step, or check the scenario)")
+        return values
+
+    def _evaluate_samplers(self, outputs: dict[str, np.ndarray]) -> None:
+        """Set the samplers' inputs from ``outputs`` and read their outputs into it."""
+        for name in self.samplers:
+            if self.wiring[name].port is not None:
+                self.components[name].set_reals(self.wiring[name].port, self._gather(name, outputs))
+            outputs[name] = self._read(name)
 
     def _resolve(self) -> None:
         """Outputs at the current time; inputs of feedthrough components set to current samples."""
-        for name in self.order:
-            comp = self.components[name]
-            if comp.feedthrough and self.wiring[name].port is not None:
-                comp.set_reals(self.wiring[name].port, self._gather(name))
-            self.outputs[name] = comp.get_reals(self.output_ports[name])
-            bad = ~np.isfinite(self.outputs[name])
-            if bad.any():
-                var = self.output_names[name][int(np.argmax(bad))]
-                raise MasterError(
-                    f"{name}: output {var} is not finite at t = {self.time:g} s; the coupled system "
-                    "diverged or was given invalid inputs (try a smaller step, or check the scenario)")
-        # Input samples at this time, complete now that every output is known.
-        for name in self.order:
+        for name in self.integrators:
+            self.outputs[name] = self._read(name)
+        self._evaluate_samplers(self.outputs)
+        for name in self.integrators:
             if self.wiring[name].port is not None:
-                self.history[name].appendleft((self.time, self._gather(name)))
+                self.history[name].appendleft((self.time, self._gather(name, self.outputs)))
+        if self.predicts or self.added_mass is not None:
+            self.output_history.appendleft((self.time, {c: self.outputs[c].copy() for c in self.integrators}))
+        if self.iterates:
+            for c in self.integrators:
+                scale = np.abs(self.outputs[c][: self.n_connected[c]])
+                self._scale[c] = np.maximum(self._scale.get(c, scale), scale)
 
-    def _hold_value(self, name: str, h: float) -> np.ndarray:
+    def _weights(self, tau: tuple[float, ...], h: float, point: float | None = None) -> np.ndarray:
+        """Cached: with fixed steps the same few weight vectors serve the whole run."""
+        key = (tuple(round(x, 12) for x in tau), round(h, 12), point)
+        w = self._weights_cache.get(key)
+        if w is None:
+            w = step_average_weights(tau, h) if point is None else point_weights(tau, point)
+            if len(self._weights_cache) > 256:
+                self._weights_cache.clear()
+            self._weights_cache[key] = w
+        return w
+
+    def _extrapolated_input(self, name: str, h: float) -> np.ndarray:
+        """Step average over [t_n, t_n + h] of the polynomial through the last p + 1 input samples."""
         hist = self.history[name]
         p = min(self.extrapolation, len(hist) - 1)
         if p == 0:
-            return hist[0][1]
-        tau = tuple(round(hist[j][0] - self.time, 12) for j in range(p + 1))
-        key = (tau, h)
-        w = self._weights_cache.get(key)
-        if w is None:
-            w = step_average_weights(tau, h)
-            if len(self._weights_cache) > 64:
-                self._weights_cache.clear()
-            self._weights_cache[key] = w
+            return hist[0][1].copy()
+        w = self._weights(tuple(hist[j][0] - self.time for j in range(p + 1)), h)
         out = w[0] * hist[0][1]
         for j in range(1, p + 1):
             out += w[j] * hist[j][1]
         return out
 
-    def step(self, h: float, end_time: float | None = None) -> None:
-        """One macro step of length ``h``; ``end_time`` (default time + h) avoids round-off drift."""
-        for name in self.order:
-            comp, w = self.components[name], self.wiring[name]
-            if w.port is not None and not comp.feedthrough:
-                comp.set_reals(w.port, self._hold_value(name, h))
-        for name in self.order:
-            self.components[name].do_step(self.time, h)
+    def _interpolated_input(self, name: str, h: float, u_next: np.ndarray) -> np.ndarray:
+        """Step average of the polynomial through u_{n+1} (given) and the last p input samples."""
+        hist = self.history[name]
+        p = min(self.extrapolation, len(hist))
+        if p == 0:
+            return u_next.copy()
+        tau = (h,) + tuple(hist[j][0] - self.time for j in range(p))
+        w = self._weights(tau, h)
+        return w[0] * u_next + sum(w[j + 1] * hist[j][1] for j in range(p))
+
+    def _predicted_outputs(self, h: float) -> dict[str, np.ndarray]:
+        """Integrators' outputs at t_n + h by point extrapolation of degree p (p = 0: hold)."""
+        hist = self.output_history
+        p = min(self.extrapolation, len(hist) - 1)
+        if p == 0:
+            return {c: v.copy() for c, v in hist[0][1].items()}
+        w = self._weights(tuple(hist[j][0] - self.time for j in range(p + 1)), h, point=h)
+        return {c: sum(w[j] * hist[j][1][c] for j in range(p + 1)) for c in self.integrators}
+
+    def _apply_added_mass(self, name: str, u: np.ndarray, h: float, y_next: dict | None) -> np.ndarray:
+        am = self.added_mass
+        if am is None or am["component"] != name:
+            return u
+        v_now = self.outputs[name][am["outputs"]]
+        if am["mode"] == "explicit":
+            if len(self.output_history) < 2:
+                return u
+            (t0, y0), (t1, y1) = self.output_history[0], self.output_history[1]
+            accel = (y0[name][am["outputs"]] - y1[name][am["outputs"]]) / (t0 - t1)
+        else:
+            accel = (y_next[name][am["outputs"]] - v_now) / h
+        u = u.copy()
+        u[am["inputs"]] -= am["matrix"] @ accel
+        return u
+
+    def _set_integrator_inputs(self, name: str, u: np.ndarray) -> None:
+        self.components[name].set_reals(self.wiring[name].port, u)
+        self.last_step.inputs[name] = u
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, h: float, end_time: float | None = None) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _finish_step(self, h: float, end_time: float | None) -> None:
+        self.last_step.h = h
         self.time = self.time + h if end_time is None else end_time
         self._resolve()
 
-    def run(self, stop_time: float, h: float, observer: Callable[[float, dict], None] | None = None) -> None:
-        """Step to ``stop_time`` with macro step ``h``; ``observer(t, outputs)`` after each step."""
-        n = int(round((stop_time - self.time) / h))
-        t0 = self.time
-        if observer is not None:
+    def run(
+        self,
+        stop_time: float,
+        h: float,
+        observer: Callable[[float, dict], None] | None = None,
+        controller: StepController | None = None,
+        observe_start: bool = True,
+    ) -> None:
+        """Step to ``stop_time`` with macro step ``h`` (or the ``controller``'s steps);
+        ``observer(t, outputs)`` after each step and, with ``observe_start``, at the start."""
+        if controller is None:
+            controller = FixedStepController(h, self.time)
+        if observer is not None and observe_start:
             observer(self.time, self.outputs)
-        for k in range(1, n + 1):
-            self.step(h, t0 + k * h)
+        if controller.steps == 0:
+            controller.begin(self)
+        while controller.remaining(self.time, stop_time):
+            h_k, t_end = controller.next_step(self.time, stop_time)
+            self.step(h_k, t_end)
+            controller.accept(self)
             if observer is not None:
                 observer(self.time, self.outputs)
 
     # ------------------------------------------------------------------ checkpoints
+    def _state(self) -> dict:
+        return {
+            "time": self.time,
+            "history": {c: [(t, u.copy()) for t, u in h] for c, h in self.history.items()},
+            "output_history": [(t, {c: v.copy() for c, v in y.items()}) for t, y in self.output_history],
+            "outputs": {c: o.copy() for c, o in self.outputs.items()},
+            "scale": {c: s.copy() for c, s in self._scale.items()},
+        }
+
+    def _set_state(self, state: dict) -> None:
+        self.time = state["time"]
+        for c, h in state["history"].items():
+            self.history[c].clear()
+            self.history[c].extend((t, u.copy()) for t, u in h)
+        self.output_history.clear()
+        self.output_history.extend((t, {c: v.copy() for c, v in y.items()}) for t, y in state["output_history"])
+        self.outputs = {c: o.copy() for c, o in state["outputs"].items()}
+        self._scale = {c: s.copy() for c, s in state["scale"].items()}
+
     def checkpoint(self) -> dict:
         """Everything needed to continue from the current time: serialised component states
-        (integrator history included), the input history of the extrapolation, the outputs."""
+        (integrator history included), the master's histories and solver memory, the outputs."""
         blobs = {}
         for name, comp in self.components.items():
             state = comp.get_state()
             blobs[name] = comp.serialize_state(state)
             comp.free_state(state)
-        return {
-            "time": self.time,
-            "states": blobs,
-            "history": {c: [(t, u.copy()) for t, u in h] for c, h in self.history.items()},
-            "outputs": {c: o.copy() for c, o in self.outputs.items()},
-        }
+        return {"states": blobs, "master": self._state()}
 
     def restore(self, checkpoint: dict) -> None:
         """Return to a :meth:`checkpoint` (same components, same connections)."""
@@ -238,12 +422,307 @@ class JacobiMaster:
             state = comp.deserialize_state(checkpoint["states"][name])
             comp.set_state(state)
             comp.free_state(state)
-        self.time = checkpoint["time"]
-        for c, h in checkpoint["history"].items():
-            self.history[c].clear()
-            self.history[c].extend((t, u.copy()) for t, u in h)
-        self.outputs = {c: o.copy() for c, o in checkpoint["outputs"].items()}
+        self._set_state(checkpoint["master"])
 
     def terminate(self) -> None:
         for c in self.components.values():
             c.terminate()
+
+
+class JacobiMaster(Master):
+    """Fixed-step Jacobi with step-averaged input extrapolation (module docstring)."""
+
+    name = "jacobi"
+
+    def step(self, h: float, end_time: float | None = None) -> None:
+        """One macro step of length ``h``; ``end_time`` (default time + h) avoids round-off drift."""
+        for name in self.integrators:
+            if self.wiring[name].port is not None:
+                u = self._apply_added_mass(name, self._extrapolated_input(name, h), h, None)
+                self._set_integrator_inputs(name, u)
+        t = self.time
+        for name in self.order:
+            self.components[name].do_step(t, h)
+        self._finish_step(h, end_time)
+
+
+class GaussSeidelMaster(Master):
+    """Samplers first, integrators after them with interpolated inputs (module docstring)."""
+
+    name = "gauss_seidel"
+    predicts = True
+
+    def step(self, h: float, end_time: float | None = None) -> None:
+        t = self.time
+        for name in self.samplers:
+            self.components[name].do_step(t, h)
+        predicted = self._predicted_outputs(h)
+        self._step_integrators(h, predicted)
+        self._finish_step(h, end_time)
+
+    def _step_integrators(self, h: float, y_next: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Evaluate the samplers at t_{n+1} with the integrators' outputs ``y_next``, step the
+        integrators from t_n with the interpolated inputs; return their new outputs."""
+        outputs = {c: self.outputs[c].copy() for c in self.components}
+        for c in self.integrators:
+            outputs[c][: len(y_next[c])] = y_next[c]
+        self._evaluate_samplers(outputs)
+        new = {}
+        for name in self.integrators:
+            if self.wiring[name].port is not None:
+                u = self._interpolated_input(name, h, self._gather(name, outputs))
+                self._set_integrator_inputs(name, self._apply_added_mass(name, u, h, y_next))
+            self.components[name].do_step(self.time, h)
+            new[name] = self._read(name)
+        return new
+
+
+class IterativeMaster(GaussSeidelMaster):
+    """Gauss-Seidel iterated to convergence with rollback (module docstring).
+
+    The unknowns are the integrators' connected outputs at t_{n+1}; one evaluation restores the
+    integrators' states at t_n, evaluates the samplers with the iterate, steps the integrators
+    and reads their outputs. Samplers step once per macro step (their step consumes only the
+    samples at t_n, known exactly).
+    """
+
+    iterates = True
+
+    def __init__(self, *args, solver: str = "iqn_ils", **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        if solver not in ("aitken", "iqn_ils"):
+            raise ValueError("solver must be 'aitken' or 'iqn_ils'")
+        self.solver = solver
+        self.name = solver
+        self._omega = self.settings.relaxation
+        self._past: deque = deque(maxlen=max(0, self.settings.reuse))  # (V, W) of previous steps
+        self._jacobians: dict[tuple, np.ndarray] = {}  # interface mode: inverse Newton matrices by (h, weights)
+        self._slices = {}
+        k = 0
+        for c in self.integrators:
+            n = self.n_connected[c]
+            self._slices[c] = slice(k, k + n)
+            k += n
+        self._n = k
+
+    # -------------------------------------------------------------- vector <-> component dicts
+    def _pack(self, y: dict[str, np.ndarray]) -> np.ndarray:
+        return np.concatenate([y[c][: self.n_connected[c]] for c in self.integrators]) if self._n else np.zeros(0)
+
+    def _unpack(self, x: np.ndarray) -> dict[str, np.ndarray]:
+        return {c: x[self._slices[c]] for c in self.integrators}
+
+    def _save_integrators(self) -> dict:
+        return {c: self.components[c].get_state() for c in self.integrators}
+
+    def _rollback(self, states: dict) -> None:
+        for c, s in states.items():
+            self.components[c].set_state(s)
+
+    def _free(self, states: dict) -> None:
+        for c, s in states.items():
+            self.components[c].free_state(s)
+
+    def _evaluate(self, x: np.ndarray, h: float, states: dict, first: bool) -> tuple[np.ndarray, dict]:
+        if not first:
+            self._rollback(states)
+        new = self._step_integrators(h, self._unpack(x))
+        return self._pack(new), new
+
+    def _converged(self, r: np.ndarray, y: np.ndarray) -> bool:
+        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y))
+        scale = np.maximum(scale, 1e-12 * max(1.0, float(np.max(scale, initial=0.0))))
+        return float(np.max(np.abs(r) / np.maximum(scale, 1e-300), initial=0.0)) <= self.settings.tolerance
+
+    def step(self, h: float, end_time: float | None = None) -> None:
+        t = self.time
+        for name in self.samplers:
+            self.components[name].do_step(t, h)
+        states = self._save_integrators()
+        try:
+            x = self._pack(self._predicted_outputs(h))
+            if self.added_mass is not None and self.added_mass["mode"] == "interface":
+                iterations = self._newton(x, h, states)
+            else:
+                iterations = self._quasi_newton(x, h, states)
+        finally:
+            self._free(states)
+        self.iterations.append(iterations)
+        self._finish_step(h, end_time)
+
+    def _fail(self, k: int, r: np.ndarray, y: np.ndarray) -> None:
+        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y))
+        rel = float(np.max(np.abs(r) / np.maximum(scale, 1e-300)))
+        hint = ("use master = 'iqn_ils'" if self.solver == "aitken" else "reduce the step")
+        raise MasterError(
+            f"{self.solver}: the coupling iteration did not converge at t = {self.time:g} s within "
+            f"{k} iterations (relative residual {rel:.3g}, tolerance {self.settings.tolerance:g}); "
+            f"raise simulation.max_iterations, loosen simulation.tolerance or {hint}")
+
+    def _quasi_newton(self, x: np.ndarray, h: float, states: dict) -> int:
+        """Aitken-relaxed fixed point or IQN-ILS; returns the number of evaluations."""
+        cap = self.settings.max_iterations
+        rs, ys = [], []
+        for k in range(1, cap + 1):
+            y, _ = self._evaluate(x, h, states, first=(k == 1))
+            r = y - x
+            if self._converged(r, y):
+                self._remember(rs, ys, r, y)
+                return k
+            if self.solver == "aitken":
+                if rs:
+                    dr = r - rs[-1]
+                    denom = float(dr @ dr)
+                    if denom > 0:
+                        self._omega = float(np.clip(-self._omega * (rs[-1] @ dr) / denom, -2.0, 2.0))
+                x_new = x + self._omega * r
+            else:
+                x_new = self._iqn_update(x, r, y, rs, ys)
+            rs.append(r)
+            ys.append(y)
+            x = x_new
+        self._fail(cap, r, y)
+        return cap
+
+    def _iqn_update(self, x: np.ndarray, r: np.ndarray, y: np.ndarray, rs: list, ys: list) -> np.ndarray:
+        """x_{k+1} = y_k + W c with c = argmin |V c + r_k| (V, W: differences to the latest
+        residual and output, this step's columns first, then those of previous steps)."""
+        vs = [r - ri for ri in reversed(rs)]
+        ws = [y - yi for yi in reversed(ys)]
+        for v_old, w_old in self._past:
+            vs += list(v_old.T)
+            ws += list(w_old.T)
+        if not vs:
+            return x + self.settings.relaxation * r
+        keep = _independent_columns(vs, self._n)
+        v = np.column_stack([vs[i] for i in keep])
+        w = np.column_stack([ws[i] for i in keep])
+        c = np.linalg.lstsq(v, -r, rcond=None)[0]
+        return y + w @ c
+
+    def _remember(self, rs: list, ys: list, r: np.ndarray, y: np.ndarray) -> None:
+        if self.solver == "iqn_ils" and rs and self.settings.reuse > 0:
+            v = np.column_stack([r - ri for ri in reversed(rs)])
+            w = np.column_stack([y - yi for yi in reversed(ys)])
+            self._past.appendleft((v, w))
+
+    # -------------------------------------------------------------- interface Newton (mode c)
+    def _newton(self, x: np.ndarray, h: float, states: dict) -> int:
+        """Newton on R(x) = S(x) - x with J = dS/dx - I, dS/dx from finite differences through
+        rollback (measured at the first step and whenever an update fails to contract), A_inf
+        entering through the interface map exactly. Returns the number of evaluations."""
+        cap = self.settings.max_iterations
+        key = (round(h, 12), tuple(len(self.history[c]) for c in self.integrators))
+        y, _ = self._evaluate(x, h, states, first=True)
+        r = y - x
+        evaluations = 1
+        refreshed = False
+        while not self._converged(r, y):
+            if evaluations >= cap:
+                self._fail(evaluations, r, y)
+            if key not in self._jacobians:
+                if len(self._jacobians) > 16:
+                    self._jacobians.clear()
+                self._jacobians[key] = self._measure_newton_matrix(x, y, h, states)
+                evaluations += self._n
+                refreshed = True
+            x_new = x - self._jacobians[key] @ r
+            y_new, _ = self._evaluate(x_new, h, states, first=False)
+            r_new = y_new - x_new
+            evaluations += 1
+            if np.linalg.norm(r_new) > 0.5 * np.linalg.norm(r) and not refreshed:
+                del self._jacobians[key]  # stale Jacobian: measure again at this point
+            x, y, r = x_new, y_new, r_new
+        return evaluations
+
+    def _measure_newton_matrix(self, x: np.ndarray, y: np.ndarray, h: float, states: dict) -> np.ndarray:
+        """Inverse of J = dS/dx - I by one-sided finite differences (exact for an affine S, whatever
+        the increment, so the increment is taken large against round-off: 1e-4 of the variable's scale,
+        at least 1e-4 in SI units)."""
+        n = self._n
+        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(x))
+        jac = np.empty((n, n))
+        for j in range(n):
+            dx = 1e-4 * max(scale[j], 1.0)
+            xp = x.copy()
+            xp[j] += dx
+            yp, _ = self._evaluate(xp, h, states, first=False)
+            jac[:, j] = (yp - y) / dx
+        return np.linalg.inv(jac - np.eye(n))
+
+    def _state(self) -> dict:
+        out = super()._state()
+        out["solver"] = {"omega": self._omega, "past": [(v.copy(), w.copy()) for v, w in self._past],
+                         "jacobians": {k: v.copy() for k, v in self._jacobians.items()}}
+        return out
+
+    def _set_state(self, state: dict) -> None:
+        super()._set_state(state)
+        s = state["solver"]
+        self._omega = s["omega"]
+        self._past.clear()
+        self._past.extend((v.copy(), w.copy()) for v, w in s["past"])
+        self._jacobians = {k: v.copy() for k, v in s["jacobians"].items()}
+
+
+class SimpleJacobiMaster(Master):
+    """The fixed-step Jacobi of generic FMI hosts (fmpy's SSP simulator, libcosim fixedStep):
+    every input is the source's output as read right after the previous step (zero-order hold,
+    feedthrough outputs not re-evaluated with the new inputs). First order; for checking exported
+    SSP files against other hosts."""
+
+    name = "simple_jacobi"
+
+    def _resolve(self) -> None:
+        for name in self.order:
+            self.outputs[name] = self._read(name)
+
+    def step(self, h: float, end_time: float | None = None) -> None:
+        for name in self.order:
+            if self.wiring[name].port is not None:
+                u = self._gather(name, self.outputs)
+                self.components[name].set_reals(self.wiring[name].port, u)
+                self.last_step.inputs[name] = u
+        t = self.time
+        for name in self.order:
+            self.components[name].do_step(t, h)
+        self.last_step.h = h
+        self.time = self.time + h if end_time is None else end_time
+        self._resolve()
+
+
+def _independent_columns(columns: list[np.ndarray], limit: int, eps: float = 1e-10) -> list[int]:
+    """Indices of the columns kept by IQN-ILS's filter: in order (newest first), each kept if its
+    part orthogonal to those already kept is larger than ``eps`` times its norm; at most ``limit``."""
+    basis: list[np.ndarray] = []
+    keep = []
+    for i, col in enumerate(columns):
+        norm = float(np.linalg.norm(col))
+        if norm == 0:
+            continue
+        rest = col.copy()
+        for b in basis:
+            rest -= (b @ rest) * b
+        rn = float(np.linalg.norm(rest))
+        if rn > eps * norm:
+            basis.append(rest / rn)
+            keep.append(i)
+            if len(keep) == limit:
+                break
+    return keep
+
+
+MASTERS = {"jacobi": JacobiMaster, "gauss_seidel": GaussSeidelMaster}
+
+
+def make_master(kind: str, components: dict, connections: list[Connection], settings: MasterSettings,
+                observe: dict[str, list[str]] | None = None, added_mass: AddedMassForce | None = None) -> Master:
+    """A master by scenario name: jacobi, gauss_seidel, aitken, iqn_ils, simple_jacobi."""
+    if kind in ("aitken", "iqn_ils"):
+        return IterativeMaster(components, connections, observe=observe, settings=settings,
+                               added_mass=added_mass, solver=kind)
+    if kind == "simple_jacobi":
+        return SimpleJacobiMaster(components, connections, observe=observe, settings=settings)
+    if kind not in MASTERS:
+        raise ValueError(f"unknown master {kind!r}")
+    return MASTERS[kind](components, connections, observe=observe, settings=settings, added_mass=added_mass)

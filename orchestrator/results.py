@@ -79,6 +79,16 @@ class ResultsWriter:
         ):
             self.flush()
 
+    def append_block(self, data: dict[str, np.ndarray]) -> None:
+        """Write many rows at once (every series, same length), e.g. the rows kept on a resume."""
+        self.flush()
+        n = len(next(iter(data.values()))) if data else 0
+        n0, n1 = self.written, self.written + n
+        for name, ds in self.datasets.items():
+            ds.resize(n1, axis=0)
+            ds[n0:n1] = data[name]
+        self.written = n1
+
     def flush(self) -> None:
         """Append the buffered rows to the file and flush it to disk."""
         if self.rows:

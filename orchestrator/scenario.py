@@ -37,22 +37,81 @@ def _order(value: int) -> str | None:
     return None if value in (0, 1, 2) else "must be 0, 1 or 2"
 
 
+MASTERS = ("jacobi", "gauss_seidel", "aitken", "iqn_ils", "monolithic")
+ADDED_MASS = ("mass_matrix", "explicit_force", "interface")
+
+
+@dataclass
+class AdaptiveSection:
+    """Energy-based adaptive macro step (ECCO idea); `simulation.step` is then the smallest step."""
+
+    enabled: bool = option(False, doc="adapt the macro step to the power mismatch on the force/velocity bonds")
+    max_step: float = option(1.0, unit="s", check=positive,
+                             doc="largest macro step; steps are whole multiples of `simulation.step` "
+                                 "(the hydro FMU's radiation grid)")
+    tolerance: float = option(
+        0.01, check=positive,
+        doc="largest energy mismatch over a step on any bond, relative to the energy flowing through the bond "
+            "in that step")
+    safety: float = option(0.8, check=positive, doc="safety factor of the step-size controller (< 1)")
+    max_growth: float = option(2.0, check=positive, doc="largest ratio of two consecutive steps (> 1)")
+
+
 @dataclass
 class SimulationSection:
     """Time-domain co-simulation settings."""
 
-    duration: float = option(unit="s", doc="simulated time", check=positive)
-    step: float = option(unit="s", doc="macro (communication) step of the master", check=positive)
-    master: str = option("jacobi", choices=("jacobi",), doc="master algorithm")
+    duration: float = option(unit="s", doc="simulated time (a whole number of steps)", check=positive)
+    step: float = option(unit="s", doc="macro (communication) step of the master; with `[simulation.adaptive]` the "
+                                       "smallest step and the radiation grid", check=positive)
+    master: str = option(
+        "jacobi", choices=MASTERS,
+        doc="`jacobi`, `gauss_seidel`, `aitken` (iterative, fixed point with Aitken relaxation), `iqn_ils` "
+            "(iterative, interface quasi-Newton) or `monolithic` (same physics in one process, no FMI)")
     extrapolation: int = option(
         2, check=_order,
-        doc="order of the polynomial extrapolation of the multibody FMU's force inputs, averaged over the step "
-            "(0 = hold the last value)")
+        doc="degree of the polynomial that gives the multibody FMU's force input over a step, averaged over the "
+            "step: extrapolated from past values (jacobi) or interpolated through the end value (gauss_seidel, "
+            "iterative); 0 = hold")
+    resolve_feedthrough: bool = option(
+        True,
+        doc="jacobi: set the motion at each communication point into the hydro FMU before reading its force; "
+            "`false` reads every output right after the step, as generic FMI hosts do (fmpy's SSP simulator, "
+            "libcosim fixedStep; first order, needs extrapolation = 0)")
+    added_mass: str = option(
+        "mass_matrix", choices=ADDED_MASS,
+        doc="`mass_matrix`: A_inf in the multibody mass matrix (stable, default); `explicit_force`: A_inf applied "
+            "as a force from the previous step's acceleration (unstable when A_inf > mass; a demonstration); "
+            "`interface`: a third-party-style multibody FMU without A_inf, the added-mass force solved within "
+            "each step (needs an iterative master)")
+    tolerance: float = option(1e-10, check=positive,
+                              doc="iterative masters: largest interface residual relative to each variable's "
+                                  "running maximum")
+    max_iterations: int = option(50, check=positive, doc="iterative masters: iteration cap per step")
+    relaxation: float = option(0.5, check=positive,
+                               doc="iterative masters: first relaxation factor (Aitken's start, IQN-ILS's first "
+                                   "update)")
+    iqn_reuse: int = option(4, check=non_negative, doc="IQN-ILS: previous steps whose secant data are reused")
+    divergence_limit: float = option(
+        1.0e8, check=positive,
+        doc="an exchanged or recorded value larger than this (SI units) stops the run as diverged")
+    adaptive: AdaptiveSection = field(default_factory=AdaptiveSection,
+                                      metadata={"doc": "energy-based adaptive step"})
     output: str = option("", doc="results file (HDF5); default `results/<name>.h5` in the working directory")
     output_every: int = option(1, check=positive, doc="record every n-th macro step")
+    flush_seconds: float = option(2.0, unit="s", check=positive,
+                                  doc="longest wall time between two writes of the results file to disk")
+    checkpoint_every: float = option(
+        0.0, unit="s", check=non_negative,
+        doc="simulated time between checkpoints of all FMU states (`<output>.checkpoint.h5`, for "
+            "`wec-cosim resume`); 0 = none")
     steady_periods: float = option(
         10.0, check=positive,
         doc="number of wave periods at the end of the run used for the steady-state amplitude, phase and power")
+
+    @property
+    def iterative(self) -> bool:
+        return self.master in ("aitken", "iqn_ils")
 
 
 @dataclass
@@ -230,6 +289,63 @@ class RaoSection:
     omega: FrequencyGrid | None = field(default=None, metadata={"doc": "frequencies; default the database grid"})
 
 
+def _limits(value: list[float]) -> str | None:
+    ok = len(value) == 2 and value[0] <= value[1]
+    return None if ok else "needs two values [minimum, maximum] with minimum <= maximum"
+
+
+@dataclass
+class ControlSection:
+    """External controller over zenoh (see docs/control.md)."""
+
+    mode: str = option("off", choices=("off", "lockstep", "realtime"),
+                       doc="`lockstep` (deterministic, waits for each command), `realtime` (paced to the "
+                           "wall clock, never waits) or `off`")
+    run_id: str = option("", doc="key-expression namespace `wec/<run_id>/...`; default the scenario name")
+    period: float | None = option(None, unit="s", check=positive,
+                                  doc="control period, a whole number of macro steps; default the macro step")
+    ptos: list[str] = option(factory=list, doc="PTOs driven by the controller; default all")
+    fallback: str = option("hold", choices=("hold", "passive", "stop"),
+                           doc="on a controller fault: `hold` the last valid command, `passive` damping, or "
+                               "`stop` the run (results kept)")
+    passive_damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative,
+                                    doc="damping of the `passive` fallback")
+    timeout: float = option(1.0, unit="s", check=positive,
+                            doc="lock-step: wall time to wait for a command before it counts as late")
+    connect_timeout: float = option(10.0, unit="s", check=non_negative,
+                                    doc="wall time to wait for the controller at the start")
+    max_age: int = option(5, check=positive,
+                          doc="real time: a command older than this many control periods counts as late")
+    realtime_factor: float = option(1.0, check=positive,
+                                    doc="real time: simulated seconds per wall-clock second (1 = real time)")
+    endpoints: list[str] = option(factory=lambda: ["tcp/127.0.0.1:7447"],
+                                  doc="zenoh endpoints the master listens on (loopback by default)")
+    zenoh_config: str = option("", doc="zenoh configuration file (endpoints, TLS, access control); "
+                                       "replaces `endpoints`; relative to the scenario file")
+    damping_limits: list[float] = option(factory=lambda: [0.0, math.inf], unit="N s/m or N m s/rad",
+                                         allow_inf=True, check=_limits, doc="accepted damping commands")
+    stiffness_limits: list[float] = option(factory=lambda: [-math.inf, math.inf], unit="N/m or N m/rad",
+                                           allow_inf=True, check=_limits, doc="accepted stiffness commands")
+    force_limits: list[float] = option(factory=lambda: [-math.inf, math.inf], unit="N or N m",
+                                       allow_inf=True, check=_limits, doc="accepted force commands")
+
+
+@dataclass
+class SweepSection:
+    """Parameter sweep for `wec-cosim sweep`: mean PTO power over a grid of one key and wave periods."""
+
+    parameter: str = option(
+        "", doc="key path of the swept value: `section.key` (e.g. `waves.height`) or `ptos.<name>.<key>` / "
+                "`bodies.<name>.<key>` (e.g. `ptos.pto.damping`); empty = only the wave periods")
+    values: list[float] = option(factory=list, doc="values of the swept key (its unit)")
+    periods: list[float] = option(factory=list, unit="s", check=positive,
+                                  doc="regular wave periods; default the scenario's `waves.period`")
+    method: str = option("frequency_domain", choices=("frequency_domain", "time_domain"),
+                         doc="exact linear frequency-domain solution, or a time-domain co-simulation per point "
+                             "(steady state over `simulation.steady_periods`)")
+    workers: int = option(1, check=positive, doc="processes running time-domain points in parallel")
+
+
 @dataclass
 class Scenario:
     """A scene and how to run it."""
@@ -243,6 +359,8 @@ class Scenario:
     hydro: HydroSection = field(default_factory=HydroSection)
     ptos: list[PtoSection] = field(default_factory=list, metadata={"doc": "power take-offs"})
     rao: RaoSection = field(default_factory=RaoSection)
+    control: ControlSection = field(default_factory=ControlSection)
+    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
 
@@ -349,9 +467,67 @@ def _check(s: Scenario) -> None:
     g = s.hydro.omega
     if g.stop <= g.start:
         raise ScenarioError(f"{f}: hydro.omega: stop must be larger than start")
+    _check_simulation(s)
+
+
+def _check_simulation(s: Scenario) -> None:
+    f = str(s.file)
     sim = s.simulation
     if sim.step > sim.duration:
         raise ScenarioError(f"{f}: simulation.step ({sim.step} s) is longer than the duration ({sim.duration} s)")
+    n = sim.duration / sim.step
+    if abs(n - round(n)) > 1e-6 * max(1.0, n):
+        raise ScenarioError(
+            f"{f}: simulation.duration ({sim.duration} s) is not a whole number of steps of {sim.step} s; "
+            "change the duration or the step")
+    if sim.added_mass == "interface" and not sim.iterative:
+        raise ScenarioError(
+            f"{f}: simulation.added_mass = 'interface' solves the added-mass force within each step and needs an "
+            f"iterative master; set simulation.master = 'iqn_ils' or 'aitken' (got {sim.master!r})")
+    if sim.master == "monolithic" and (sim.added_mass != "mass_matrix" or sim.adaptive.enabled):
+        raise ScenarioError(
+            f"{f}: simulation.master = 'monolithic' steps the physics directly with A_inf in the mass matrix and a "
+            "fixed step; remove simulation.added_mass and [simulation.adaptive] or choose a co-simulation master")
+    if not sim.resolve_feedthrough and (sim.master != "jacobi" or sim.extrapolation != 0):
+        raise ScenarioError(
+            f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "
+            f"it needs master = 'jacobi' and extrapolation = 0 (got {sim.master!r}, {sim.extrapolation})")
+    a = sim.adaptive
+    if a.enabled and a.max_step < sim.step:
+        raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "
+                            f"({sim.step} s), the smallest step")
+    if a.safety >= 1 or a.max_growth <= 1:
+        raise ScenarioError(f"{f}: simulation.adaptive needs safety < 1 and max_growth > 1 "
+                            f"(got {a.safety}, {a.max_growth})")
+    _check_control(s)
+
+
+def _check_control(s: Scenario) -> None:
+    c, f = s.control, str(s.file)
+    if c.mode == "off":
+        return
+    from .control.protocol import valid_run_id
+
+    if not valid_run_id(c.run_id or s.name):
+        raise ScenarioError(f"{f}: control.run_id {c.run_id or s.name!r} may hold only letters, digits, _ and -")
+    period = c.period or s.simulation.step
+    ratio = period / s.simulation.step
+    if abs(ratio - round(ratio)) > 1e-9 * ratio or round(ratio) < 1:
+        raise ScenarioError(f"{f}: control.period ({period} s) must be a whole number of macro steps "
+                            f"(simulation.step = {s.simulation.step} s)")
+    names = [p.name for p in s.ptos]
+    for p in c.ptos:
+        if p not in names:
+            raise ScenarioError(f"{f}: control.ptos: PTO {p!r} is not defined (ptos: {', '.join(names) or 'none'})")
+    if not names:
+        raise ScenarioError(f"{f}: control is on but the scene has no PTO to drive")
+    sim = s.simulation
+    if sim.master == "monolithic" or sim.adaptive.enabled or sim.added_mass != "mass_matrix":
+        raise ScenarioError(
+            f"{f}: [control] drives the PTO inputs of the multibody FMU at a fixed period: it needs a co-simulation "
+            "master (not 'monolithic'), fixed steps (no [simulation.adaptive]) and added_mass = 'mass_matrix'")
+    if c.zenoh_config and not s.resolve(c.zenoh_config).is_file():
+        raise ScenarioError(f"{f}: control.zenoh_config: file {s.resolve(c.zenoh_config)} does not exist")
 
 
 def _check_waves(s: Scenario) -> None:

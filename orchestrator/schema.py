@@ -189,7 +189,8 @@ def document(cls: type, title: str, path: str = "", array: bool = False) -> list
         else:
             default = "**required**"
         doc = f.metadata.get("doc", "").replace("|", "\\|").replace("\n", " ")
-        lines.append(f"| `{f.name}` | {_describe(tp, f)} | {f.metadata.get('unit', '') or ''} | {default} | {doc} |")
+        kind = _describe(tp, f).replace("|", "\\|")  # choices are listed with '|', a table separator
+        lines.append(f"| `{f.name}` | {kind} | {f.metadata.get('unit', '') or ''} | {default} | {doc} |")
     lines.append("")
     for sub, sub_path, is_array in nested:
         lines += document(sub, (sub.__doc__ or sub.__name__).strip().split("\n")[0].rstrip("."), sub_path, is_array)

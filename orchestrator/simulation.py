@@ -2,24 +2,30 @@
 
 from __future__ import annotations
 
+import json
 import math
+import os
 import platform
-import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 from . import frequency_domain
 from .analysis import harmonic_fit, steady_window, window_mean
+from .checkpoints import checkpoint_path, read_checkpoint, write_checkpoint
 from .components import FmuComponent, InProcessComponent
-from .errors import MasterError
-from .fmu_builder import build_scene_fmus
-from .masters import JacobiMaster
+from .control.loop import ControlLoop, control_loop
+from .coupling import bonds, scene_coupling
+from .errors import MasterError, WecCosimError
+from .masters import EnergyStepController, FixedStepController, Master, MasterSettings, StepController, make_master
+from .monolithic import MonolithicMaster
+from .progress import ProgressBar
 from .results import ResultsWriter, read_results
-from .scenario import DOFS, Scenario
+from .scenario import DOFS, Scenario, parse_scenario
 from .scene import HYDRO, MBD, Scene, load_scene
 
 
@@ -36,7 +42,7 @@ def versions() -> dict[str, str]:
 class Recorder:
     """Maps the master's output vectors onto rows of the results file."""
 
-    def __init__(self, scene: Scene, master: JacobiMaster) -> None:
+    def __init__(self, scene: Scene, master: Master | MonolithicMaster) -> None:
         self.plan: list[tuple[str, str, np.ndarray, np.ndarray | None]] = []
         self.series: dict[str, tuple[int, ...]] = {"time": ()}
         names = master.output_names
@@ -104,6 +110,7 @@ class RunResult:
     simulated_time: float
     steps: int
     comparisons: list[Comparison] = field(default_factory=list)
+    statistics: dict = field(default_factory=dict)
     radiation: dict = field(default_factory=dict)
 
     @property
@@ -117,6 +124,80 @@ def make_components(fmus: dict[str, Path], in_process: bool = False) -> dict:
     return {name: kind(name, path) for name, path in fmus.items()}
 
 
+@dataclass
+class RunPlan:
+    """Everything a run needs, built from the scenario: master, step controller, recorder."""
+
+    scene: Scene
+    master: Master | MonolithicMaster
+    controller: StepController
+    recorder: Recorder
+    parameter_links: list
+    settings: dict
+    control: ControlLoop | None = None
+    radiation: dict = field(default_factory=dict)
+
+    @property
+    def series(self) -> dict[str, tuple[int, ...]]:
+        return self.recorder.series | (self.control.series if self.control else {})
+
+    def attrs(self) -> dict:
+        """Root attributes of the results file."""
+        scenario = self.scene.scenario
+        out = {"scenario": scenario.text, "scenario_file": str(Path(scenario.file).resolve()),
+               "versions": versions(), "settings": self.settings, "hydro_database": str(self.scene.hdb_file)}
+        if self.control:
+            out["control_manifest"] = self.control.manifest.to_json()
+        return out
+
+
+def master_settings(scenario: Scenario) -> MasterSettings:
+    sim = scenario.simulation
+    return MasterSettings(extrapolation=sim.extrapolation, tolerance=sim.tolerance,
+                          max_iterations=sim.max_iterations, relaxation=sim.relaxation, reuse=sim.iqn_reuse,
+                          divergence_limit=sim.divergence_limit)
+
+
+def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None) -> RunPlan:
+    """Load the scene, build the FMUs for the scenario's added-mass mode, make the master."""
+    # A scene given is reused for its database only (the scenario may be a variant of its own).
+    scene = Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None else load_scene(scenario, log=log)
+    sim = scenario.simulation
+    observe = Recorder.observed(scene)
+    settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
+                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
+    if sim.master == "monolithic":
+        master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
+        links: list = []
+    else:
+        coupling = scene_coupling(scene, sim.added_mass)
+        components = make_components(coupling.fmus, in_process)
+        kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
+        master = make_master(kind, components, coupling.connections, master_settings(scenario),
+                             observe, coupling.added_mass)
+        links = coupling.parameter_links
+        settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
+    if sim.adaptive.enabled:
+        a = sim.adaptive
+        controller: StepController = EnergyStepController(
+            sim.step, 0.0, a.max_step, a.tolerance, bonds(scene), order=1 if sim.extrapolation == 0 else 2,
+            safety=a.safety, max_growth=a.max_growth)
+    else:
+        controller = FixedStepController(sim.step, 0.0)
+    control = control_loop(scene, master) if scenario.control.mode != "off" else None
+    return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control)
+
+
+@dataclass
+class _Progress:
+    """Row and checkpoint bookkeeping of a running simulation."""
+
+    steps: int = 0
+    next_checkpoint: float = math.inf
+
+
 def run_scenario(
     scenario: Scenario,
     output: str | Path | None = None,
@@ -126,61 +207,175 @@ def run_scenario(
     progress: bool = True,
 ) -> RunResult:
     """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
-    scene = load_scene(scenario, log=log)
-    fmus = build_scene_fmus(scene)
+    plan = prepare_run(scenario, in_process=in_process, log=log)
     sim = scenario.simulation
     path = Path(output or sim.output or Path("results") / f"{scenario.name}.h5")
-    components = make_components(fmus, in_process)
-    master = JacobiMaster(components, scene.connections(), sim.extrapolation, Recorder.observed(scene))
-    recorder = Recorder(scene, master)
-    settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "output_every": sim.output_every,
-                "fmi": "in-process" if in_process else "fmpy", "fmus": {k: str(v) for k, v in fmus.items()}}
-    writer = ResultsWriter(path, recorder.series, {
-        "scenario": scenario.text, "scenario_file": str(scenario.file), "versions": versions(),
-        "settings": settings, "hydro_database": str(scene.hdb_file)})
-    n_steps = int(round(sim.duration / sim.step))
-    counter = {"k": 0, "last": time.monotonic(), "shown": False}
+    writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+    state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
+    try:
+        if plan.control:
+            plan.control.start()
+        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
+    except BaseException:
+        plan.master.terminate()
+        extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
+        writer.close(status="failed: initialisation", attrs=extra)
+        raise
+    return _execute(plan, writer, state, progress, observe_start=True)
+
+
+def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunResult:
+    """Continue a run from the last checkpoint next to its results file (``wec-cosim resume``).
+
+    The scenario and settings are those stored in the results file; rows after the checkpoint
+    are dropped and computed again, so the finished file equals an uninterrupted run's.
+    """
+    results = Path(results)
+    if not results.is_file():
+        raise WecCosimError(f"results file {results} does not exist")
+    try:
+        with h5py.File(results, "r", swmr=True) as f:
+            text = f.attrs["scenario"]
+            scenario_file = Path(f.attrs["scenario_file"])
+            stored = json.loads(f.attrs["settings"])
+    except (OSError, KeyError, ValueError) as exc:
+        raise WecCosimError(f"{results} is not a wec-cosim results file that can be resumed ({exc})") from None
+    saved = read_checkpoint(checkpoint_path(results))
+    scenario = parse_scenario(text, scenario_file)
+    if scenario.control.mode != "off":
+        raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
+                            "controller's own state is not in the checkpoint); run it again")
+    plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log)
+    sim = scenario.simulation
+    old = read_results(results)
+    rows = saved["rows"]
+    writer = ResultsWriter(results.with_name(results.name + ".resume.part"), plan.recorder.series, {
+        k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds)
+    writer.append_block({name: old[name][:rows] for name in plan.recorder.series})
+    writer.flush()
+    os.replace(writer.path, results)
+    writer.path = results
+    try:
+        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
+        plan.master.restore(saved["checkpoint"])
+        plan.controller.set_state(saved["controller"])
+    except BaseException:
+        plan.master.terminate()
+        writer.close(status="failed: could not restore the checkpoint")
+        raise
+    every = sim.checkpoint_every
+    state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
+    return _execute(plan, writer, state, progress, observe_start=False)
+
+
+def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: bool,
+             observe_start: bool) -> RunResult:
+    """Step to the end, writing rows and checkpoints; close the file with the run's status."""
+    scenario = plan.scene.scenario
+    sim = scenario.simulation
+    master, recorder = plan.master, plan.recorder
+    bar = ProgressBar(0.0, sim.duration, enabled=progress)
+    ckpt = checkpoint_path(writer.path)
+    end_tick = int(round(sim.duration / sim.step))
+
+    control = plan.control
 
     def observe(t: float, outputs: dict[str, np.ndarray]) -> None:
-        k = counter["k"]
-        if k % sim.output_every == 0 or k == n_steps:
-            writer.append(recorder.row(t, outputs))
-        counter["k"] = k + 1
-        if progress and time.monotonic() - counter["last"] > 2.0:
-            counter["last"], counter["shown"] = time.monotonic(), True
-            print(f"\r  t = {t:8.2f} s  ({100 * t / sim.duration:5.1f} %)", end="", file=sys.stderr, flush=True)
+        k = state.steps
+        if control:
+            control.on_point(t, outputs)
+        if k % sim.output_every == 0 or plan.controller.ticks >= end_tick:
+            row = recorder.row(t, outputs)
+            writer.append(row | control.row() if control else row)
+        state.steps = k + 1
+        if t >= state.next_checkpoint - 1e-9 * sim.step:
+            writer.flush()
+            write_checkpoint(ckpt, master.checkpoint(), plan.controller.state(), time=t, rows=writer.written,
+                             steps=state.steps)
+            state.next_checkpoint += sim.checkpoint_every
+        bar.update(t)
 
     start = time.perf_counter()
-    report: dict = {}
     try:
-        master.initialize(0.0, sim.duration, scene.parameter_links())
-        report = radiation_report(scenario, components[HYDRO])
-        master.run(sim.duration, sim.step, observe)
+        master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
     except MasterError as exc:
-        writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start)
-        raise MasterError(f"{exc} (results up to t = {master.time:g} s are in {path})") from None
+        writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
+        raise MasterError(f"{exc}{_divergence_advice(plan)} (results up to t = {master.time:g} s are in "
+                          f"{writer.path})") from None
     except KeyboardInterrupt:
-        writer.close(status="interrupted", wall_time=time.perf_counter() - start)
+        writer.close(status="interrupted", wall_time=time.perf_counter() - start,
+                     attrs=_final_attrs(plan, "failed"))
         raise
     finally:
         master.terminate()
-        if counter["shown"]:
-            print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
+        bar.close()
     wall = time.perf_counter() - start
-    writer.close(status="completed", wall_time=wall, attrs={"radiation_model": report})
-    result = RunResult(path, wall, sim.duration, n_steps, radiation=report)
-    if scenario.waves.kind == "regular":
-        result.comparisons = compare_with_frequency_domain(scene, read_results(path))
+    attrs = _final_attrs(plan, "finished")
+    writer.close(status="completed", wall_time=wall, attrs=attrs)
+    result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
+                       radiation=plan.radiation)
+    if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
+        result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
     return result
 
 
-def radiation_report(scenario: Scenario, hydro) -> dict:
-    """The hydro FMU's report of its radiation model (method, state-space order and errors)."""
+def _final_attrs(plan: RunPlan, state: str) -> dict:
+    """Attributes written when a run ends: run statistics, and the control statistics (which also
+    tells the external controller that the run is over)."""
+    out = {"statistics": _run_statistics(plan), "radiation_model": plan.radiation}
+    if plan.control:
+        out["control_statistics"] = plan.control.close(state)
+    return out
+
+
+def radiation_report(plan: RunPlan) -> dict:
+    """The radiation model's report (method, state-space order and errors): from the hydro FMU, or
+    from the in-process model of the monolithic mode."""
+    method = plan.scene.scenario.hydro.radiation_method
+    hydro = getattr(plan.master, "hydro", None)
+    if hydro is not None:  # monolithic: the physics object itself
+        r = hydro.report
+        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error}
+    comp = plan.master.components.get(HYDRO) if hasattr(plan.master, "components") else None
     names = ["radiation.order", "radiation.fit_error", "radiation.frequency_error"]
-    order, fit_error, frequency_error = (float(v) for v in hydro.get_reals(hydro.port(names)))
-    return {"method": scenario.hydro.radiation_method, "order": int(order), "fit_error": fit_error,
-            "frequency_error": frequency_error}
+    if comp is None or any(n not in comp.variables for n in names):
+        return {}
+    order, fit_error, frequency_error = (float(v) for v in comp.get_reals(comp.port(names)))
+    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error}
+
+
+def _run_statistics(plan: RunPlan) -> dict:
+    sizes = plan.controller.sizes
+    out = {"macro_steps": plan.controller.steps, "master": plan.master.name}
+    if sizes:
+        out.update(smallest_step=min(sizes), largest_step=max(sizes), mean_step=float(np.mean(sizes)))
+    its = getattr(plan.master, "iterations", [])
+    if its:
+        out.update(mean_iterations=float(np.mean(its)), max_iterations=int(np.max(its)))
+    return out
+
+
+def _divergence_advice(plan: RunPlan) -> str:
+    """Why a run with the added mass on the force side diverges, and what to change."""
+    scenario = plan.scene.scenario
+    if scenario.simulation.added_mass != "explicit_force":
+        return ""
+    scene = plan.scene
+    idx = scene.hydro_index()
+    a_inf = np.diag(scene.hdb.added_mass_inf[np.ix_(idx, idx)])
+    system = scene.multibody_system(added_mass=False)
+    rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
+    ratios = a_inf / np.diag(system.structural_mass)[rows]
+    j = int(np.argmax(ratios))
+    b, d = scene.hydro_coordinates[j]
+    return (f". The run diverged because simulation.added_mass = 'explicit_force' applies the infinite-frequency "
+            f"added mass as a force computed from the previous step's acceleration; that explicit coupling is "
+            f"unstable at any step size whenever A_inf exceeds the structural mass, and here A_inf is "
+            f"{ratios[j]:.3g} times the mass ({b} {DOFS[d]}). Use simulation.added_mass = 'mass_matrix' (the "
+            f"default), or 'interface' with master = 'iqn_ils' or 'aitken' for a multibody FMU that cannot take "
+            f"A_inf")
 
 
 def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
@@ -218,8 +413,15 @@ def format_summary(result: RunResult) -> str:
             lines.append(
                 f"  {c.label:<24}{abs(c.measured):>13.5g} {c.unit:<2}{abs(c.exact):>13.5g} {c.unit:<2}"
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
+    st = result.statistics
+    if "mean_iterations" in st:
+        lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "
+                     f"at most {st['max_iterations']}")
+    if st.get("smallest_step") is not None and st["smallest_step"] != st["largest_step"]:
+        lines.append(f"adaptive step: {st['smallest_step']:g} .. {st['largest_step']:g} s, "
+                     f"mean {st['mean_step']:.4g} s")
     r = result.radiation
-    if r and r.get("method") == "state_space":
+    if r.get("method") == "state_space":
         lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
                      f"A and B against the database {r['frequency_error']:.3g}")
     elif r:

@@ -1,0 +1,117 @@
+"""Controller client: write an external controller in a few lines.
+
+    from orchestrator.control.client import Controller
+
+    def law(step, t, m, c):          # m: measurements by name; c: the controller (manifest, pto list)
+        return {f"{p['name']}.damping": 2.0e5 for p in c.ptos}
+
+    Controller("my_run", law).run()
+
+The controller connects to the master, reads the manifest, declares its liveliness token, and
+answers every measurement frame with a command frame for the same step. Commands not returned
+by the law keep their previous value (initially the manifest's defaults, the scenario's values).
+:meth:`Controller.run` returns when the master publishes the end of the run.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+
+from . import protocol
+from .protocol import COMMANDS, MEASUREMENTS, FrameError, Manifest
+from .session import open_controller
+
+Law = Callable[[int, float, dict[str, float], "Controller"], dict[str, float]]
+
+
+class Controller:
+    """An external controller for run ``run_id``.
+
+    Args:
+        run_id: the run to control (``control.run_id`` of the scenario).
+        law: ``law(step, t, measurements, controller) -> {command name: value}``.
+        endpoints: where the master listens (default loopback, port 7447).
+        config_file: a zenoh configuration file instead (TLS, access control...).
+        defaults: starting values of commands the law does not set (default: the manifest's).
+    """
+
+    def __init__(self, run_id: str, law: Law, endpoints: list[str] | None = None,
+                 config_file: str | None = None, defaults: dict[str, float] | None = None) -> None:
+        self.run_id = run_id
+        self.law = law
+        self.session = open_controller(endpoints, config_file)
+        self.manifest = self._query_manifest()
+        self.names = [s.name for s in self.manifest.measurements]
+        self.command_names = [s.name for s in self.manifest.commands]
+        self.values = {name: 0.0 for name in self.command_names}
+        self.values.update(self._default_commands())
+        self.values.update(defaults or {})
+        self.steps = 0
+        self.finished = threading.Event()
+        self.state = {}  # free for laws that keep memory between steps
+
+    @property
+    def ptos(self) -> list[dict]:
+        """The controlled PTOs: name and the names of their position and velocity measurements."""
+        return self.manifest.ptos
+
+    def _default_commands(self) -> dict[str, float]:
+        """The scenario's PTO settings, as the manifest states them."""
+        return {f"{p['name']}.{k}": p[k] for p in self.manifest.ptos for k in ("stiffness", "damping", "force_command")}
+
+    def _query_manifest(self, timeout: float = 20.0) -> Manifest:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            for reply in self.session.get(protocol.key(self.run_id, "manifest"), timeout=1.0):
+                if reply.ok is not None:
+                    manifest = Manifest.from_json(reply.ok.payload.to_bytes())
+                    if manifest.protocol_version != protocol.PROTOCOL_VERSION:
+                        raise RuntimeError(f"master speaks protocol {manifest.protocol_version}, "
+                                           f"this client {protocol.PROTOCOL_VERSION}")
+                    return manifest
+            time.sleep(0.1)
+        raise TimeoutError(f"no master serves run {self.run_id!r} (waited {timeout:g} s)")
+
+    def _on_measurements(self, sample) -> None:  # noqa: ANN001
+        try:
+            frame = protocol.decode(sample.payload.to_bytes(), MEASUREMENTS, len(self.names))
+        except FrameError:
+            return
+        measured = dict(zip(self.names, frame.values, strict=True))
+        update = self.law(frame.step, frame.time, measured, self) or {}
+        self.values.update(update)
+        self.publish(frame.step, frame.time, [self.values[n] for n in self.command_names])
+        self.steps += 1
+
+    def publish(self, step: int, t: float, values: list[float]) -> None:
+        """Send one command frame (exposed so tests can send deliberately bad frames)."""
+        self._publisher.put(protocol.encode(COMMANDS, step, t, values))
+
+    def _on_status(self, sample) -> None:  # noqa: ANN001
+        if b'"running"' not in sample.payload.to_bytes():
+            self.finished.set()
+
+    def run(self, max_wall_time: float | None = None) -> None:
+        """Serve measurements until the master ends the run (or ``max_wall_time`` s pass)."""
+        self._publisher = self.session.declare_publisher(protocol.key(self.run_id, "commands"))
+        self._status = self.session.declare_subscriber(protocol.key(self.run_id, "status"), self._on_status)
+        self._subscriber = self.session.declare_subscriber(protocol.key(self.run_id, "measurements"),
+                                                           self._on_measurements)
+        # The token tells the master we are ready: declare it only once we can hear measurements.
+        self._token = self.session.liveliness().declare_token(protocol.key(self.run_id, "controller"))
+        try:
+            self.finished.wait(max_wall_time)
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        if self.session is not None:
+            for name in ("_token", "_subscriber", "_status", "_publisher"):
+                entity = getattr(self, name, None)
+                if entity is not None:
+                    entity.undeclare()
+                    setattr(self, name, None)
+            self.session.close()
+            self.session = None

@@ -1,0 +1,97 @@
+"""``wec-cosim plot``: PNG figures of a results file (time series) or of a RAO file (``wec-cosim rao``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from .errors import WecCosimError
+from .scenario import DOFS
+
+UNITS = ("m", "m", "m", "rad", "rad", "rad")
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]:
+    """Draw every figure the file supports; returns the PNG files written."""
+    path = Path(path)
+    if not path.is_file():
+        raise WecCosimError(f"plot: file {path} does not exist")
+    out = Path(out_dir) if out_dir else path.parent
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        with h5py.File(path, "r", swmr=True) as f:
+            if "omega" in f:
+                return [plot_rao(f, out / f"{path.stem}_rao.png")]
+            if "time" in f:
+                return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
+    except OSError as exc:
+        raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
+    raise WecCosimError(f"plot: {path} is neither a results file (/time) nor a RAO file (/omega)")
+
+
+def _active(d: np.ndarray) -> list[int]:
+    return [j for j in range(6) if np.any(d[:, j] != 0)]
+
+
+def plot_time_series(f: h5py.File, target: Path) -> Path:
+    """Displacements, hydrodynamic forces, PTO power and wave elevation against time."""
+    plt = _pyplot()
+    t = f["time"][()]
+    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+    for name in f.get("bodies", {}):
+        d = f[f"bodies/{name}/displacement"][()]
+        for j in _active(d):
+            axes[0].plot(t, d[:, j], label=f"{name} {DOFS[j]} ({UNITS[j]})")
+        if f"bodies/{name}/hydro_force" in f:
+            force = f[f"bodies/{name}/hydro_force"][()]
+            for j in _active(force):
+                axes[1].plot(t, force[:, j], label=f"{name} {DOFS[j]}")
+    for name in f.get("ptos", {}):
+        p = f[f"ptos/{name}/power"][()]
+        axes[2].plot(t, p / 1e3, label=f"{name} (mean {np.mean(p) / 1e3:.3g} kW)")
+    if "wave/elevation" in f:
+        axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
+    fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
+    return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
+                 "time (s)", target)
+
+
+def _save(plt, fig, axes, ylabels: tuple[str, ...], xlabel: str, target: Path) -> Path:  # noqa: ANN001
+    """Label, grid and legend every axis, write the PNG, close the figure."""
+    for ax, label in zip(axes, ylabels, strict=True):
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel(xlabel)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target
+
+
+def plot_rao(f: h5py.File, target: Path) -> Path:
+    """Amplitude and phase of every active RAO, and the mean PTO power per m^2 of wave amplitude."""
+    plt = _pyplot()
+    omega = f["omega"][()]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 10), sharex=True)
+    for name in f.get("bodies", {}):
+        rao = f[f"bodies/{name}/rao"][()]
+        for j in [j for j in range(6) if np.any(np.abs(rao[:, j]) > 0)]:
+            axes[0].plot(omega, np.abs(rao[:, j]), label=f"{name} {DOFS[j]}")
+            axes[1].plot(omega, np.degrees(np.angle(rao[:, j])), label=f"{name} {DOFS[j]}")
+    for name in f.get("ptos", {}):
+        axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
+    return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
+                 "wave frequency (rad/s)", target)

@@ -1,0 +1,43 @@
+"""A progress bar for long runs, on standard error; silent for runs shorter than ``delay`` seconds."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import TextIO
+
+
+class ProgressBar:
+    """``update(t)`` as the run goes, ``close()`` at the end (erases the bar)."""
+
+    def __init__(self, start: float, stop: float, *, enabled: bool = True, delay: float = 2.0,
+                 interval: float = 0.5, width: int = 30, stream: TextIO | None = None) -> None:
+        self.start, self.stop = start, stop
+        self.enabled = enabled
+        self.delay, self.interval, self.width = delay, interval, width
+        self.stream = stream or sys.stderr
+        self.t0 = time.monotonic()
+        self.last = self.t0
+        self.shown = False
+
+    def line(self, t: float, elapsed: float) -> str:
+        frac = min(1.0, max(0.0, (t - self.start) / (self.stop - self.start))) if self.stop > self.start else 1.0
+        filled = int(round(frac * self.width))
+        eta = elapsed * (1 - frac) / frac if frac > 0 else float("nan")
+        return (f"\r  [{'#' * filled}{'.' * (self.width - filled)}] {100 * frac:5.1f} %  t = {t:9.2f} s"
+                f"  elapsed {elapsed:6.1f} s  left {eta:6.1f} s")
+
+    def update(self, t: float) -> None:
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if now - self.t0 < self.delay or now - self.last < self.interval:
+            return
+        self.last = now
+        self.shown = True
+        print(self.line(t, now - self.t0), end="", file=self.stream, flush=True)
+
+    def close(self) -> None:
+        if self.shown:
+            print("\r" + " " * (self.width + 70) + "\r", end="", file=self.stream, flush=True)
+            self.shown = False
