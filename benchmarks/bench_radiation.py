@@ -31,10 +31,9 @@ from datetime import date
 from pathlib import Path
 
 import numpy as np
-from common import write_report
+from common import physics_loop, write_report
 
 from orchestrator import frequency_domain
-from orchestrator.masters import step_average_weights
 from orchestrator.scenario import PtoSection, load_scenario
 from orchestrator.scene import load_scene
 
@@ -69,21 +68,8 @@ def run_decay(scene, method: str, tolerance: float, h: float, duration: float):
     s.hydro.radiation_method = method
     s.hydro.state_space_tolerance = tolerance
     hydro = scene.hydro_model(dt=h)
-    system = scene.multibody_system()
-    weights = step_average_weights([0.0, -h, -2 * h], h)
-    history: list[np.ndarray] = []
-    out = []
-    start = time.perf_counter()
-    for n in range(int(round(duration / h))):
-        t = n * h
-        force = hydro.forces(t, system.q, system.qd).total
-        history.insert(0, force)
-        del history[3:]
-        hold = sum(w * f for w, f in zip(weights, history, strict=False)) if len(history) == 3 else force
-        hydro.advance(t, h, system.qd.copy())
-        system.step(h, hold)
-        out.append(system.q.copy())
-    return np.array(out), hydro, time.perf_counter() - start
+    x, seconds = physics_loop(hydro, scene.multibody_system(), h, int(round(duration / h)), record=True)
+    return x, hydro, seconds
 
 
 def time_memory(memory_factory, n_dofs: int, steps: int, h: float) -> float:
