@@ -129,8 +129,10 @@ def test_large_rotation_uses_the_rotation_vector() -> None:
 
 def test_nonlinear_froude_krylov_tends_to_the_closed_form() -> None:
     """Fixed vertical cylinder, deep water: the linear heave Froude-Krylov force is
-    rho g a exp(-k D) 2 pi R J1(k R) / k (pressure on the bottom); the nonlinear force over the
-    instantaneous wetted surface approaches it as the wave height goes to zero (difference O(a^2))."""
+    rho g a exp(-k D) 2 pi R J1(k R) / k (pressure on the bottom). For this fixed wall-sided body the
+    wetted walls carry no vertical force and the bottom does not move, so the first harmonic of the
+    force over the instantaneous wetted surface is linear in the wave height: it matches the closed
+    form at every height, up to the panel discretisation (measured 0.10 %)."""
     radius, draft, period = 5.0, 5.0, 8.0
     model = cylinder_model(radius, draft, panel=0.4)
     omega = 2 * math.pi / period
@@ -145,8 +147,8 @@ def test_nonlinear_froude_krylov_tends_to_the_closed_form() -> None:
         first = 2 * np.mean(fz * np.exp(-1j * omega * t)) / (height / 2)
         return abs(abs(first) / linear - 1)
 
-    errors = [relative_error(h) for h in (0.4, 0.1)]
-    assert errors[-1] < 0.01, errors
+    errors = [relative_error(h) for h in (2.0, 0.1)]
+    assert max(errors) < 0.005, errors
 
 
 def test_clip_keeps_orientation_and_area() -> None:
