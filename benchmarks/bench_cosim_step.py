@@ -23,11 +23,11 @@ import time
 from datetime import date
 from pathlib import Path
 
-import numpy as np
+from common import physics_loop, write_report
 
 from hydro_fmu.model import HydroModel
 from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.masters import JacobiMaster, step_average_weights
+from orchestrator.masters import JacobiMaster
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 from orchestrator.simulation import Recorder, make_components
@@ -52,22 +52,8 @@ def time_master(scene, fmus, steps: int, in_process: bool) -> float:
 def time_physics(scene, steps: int) -> float:
     s = scene.scenario
     h = s.simulation.step
-    system = scene.multibody_system()
-    dofs = [[2]]
-    hydro = HydroModel(scene.hdb, scene.hydro_bodies, dofs, scene.waves(), scene.ramp(), h, s.hydro.irf_duration)
-    weights = step_average_weights([0.0, -h, -2 * h], h)
-    history: list[np.ndarray] = []
-    start = time.perf_counter()
-    t = 0.0
-    for k in range(steps):
-        force = hydro.forces(t, system.q, system.qd).total
-        history.insert(0, force)
-        del history[3:]
-        hold = sum(w * f for w, f in zip(weights, history, strict=False)) if len(history) == 3 else force
-        hydro.advance(t, h, system.qd.copy())
-        system.step(h, hold)
-        t = (k + 1) * h
-    return time.perf_counter() - start
+    hydro = HydroModel(scene.hdb, scene.hydro_bodies, [[2]], scene.waves(), scene.ramp(), h, s.hydro.irf_duration)
+    return physics_loop(hydro, scene.multibody_system(), h, steps)[1]
 
 
 def main() -> None:
@@ -106,11 +92,7 @@ def main() -> None:
         f"  total through FMI                               {per['fmi']:8.1f} us"
         f"  ({per['fmi'] / per['physics']:.1f} x the bare physics)",
     ]
-    report = "\n".join(lines)
-    print(report)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(report + "\n")
+    write_report(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -163,6 +163,12 @@ class VectorSlave(Fmi2Slave):
     def array(self, key: str) -> np.ndarray:
         return self._arrays[key]
 
+    def log(self, msg: str, status: Any = None, category: str | None = None, debug: Any = None) -> None:
+        """PythonFMU's log with "%" escaped: FMI hosts treat the message as a printf format string
+        (an unescaped "11% of" prints as "11" followed by an octal conversion)."""
+        kwargs = {} if status is None else {"status": status}
+        super().log(msg.replace("%", "%%"), category=category, **kwargs)
+
     # ------------------------------------------------------------------ physics hooks
     def update_outputs(self) -> None:  # pragma: no cover - overridden
         """Recompute every output array from the current inputs and state."""

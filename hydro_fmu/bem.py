@@ -1,7 +1,10 @@
 """Capytaine front end: body geometry -> hydrodynamic database, cached on disk by content hash.
 
-A body is a primitive (vertical cylinder, sphere, box) or a mesh file (anything Capytaine or
-meshio reads: ``.obj``, ``.stl``, ``.gdf``, ``.dat``...), placed in the world by a translation.
+A body is a primitive (vertical cylinder, sphere, box) or a mesh file (``.obj`` and ``.stl`` read
+by :mod:`hydro_fmu.meshes`, other formats by Capytaine: ``.gdf``, ``.dat``...), placed in the world
+by a rotation about its origin and a translation. Mesh files are checked before the solve
+(:func:`hydro_fmu.meshes.check_mesh`): defects that make Capytaine return NaN stop the run with
+the body, file and place named; others are logged as warnings.
 The solver runs Capytaine 3.0's ``BEMSolver.fill_dataset`` over a frequency grid and the
 headings, plus one radiation solve at infinite frequency for A_inf, with a lid mesh on the
 waterplane to remove irregular frequencies. Rotation centres are the bodies' centres of
@@ -23,12 +26,13 @@ import numpy as np
 
 from .bemio import read_bemio, write_bemio
 from .hdb import HydroDatabase, HydroDatabaseError
+from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mesh, to_capytaine
 
 # Bump when the way a database is computed changes: invalidates every cached file.
 BEM_CACHE_VERSION = 1
 SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
 
-log = logging.getLogger(__name__)
+_logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -41,6 +45,7 @@ class BodyGeometry:
             length, width, height; origin at the centre) or ``mesh`` (``mesh_file``; the file's
             own coordinates).
         position: world coordinates (m) of the local origin.
+        rotation_deg: rotation about the local origin, about the fixed x, then y, then z axis (deg).
         panel_size: target panel edge (m) for primitives; ignored for mesh files.
         lid: put a lid mesh on the waterplane of a surface-piercing body to remove irregular
             frequencies (not needed for thin discs, whose irregular frequencies are very high).
@@ -54,6 +59,7 @@ class BodyGeometry:
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
     panel_size: float = 0.5
     lid: bool = True
+    rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
@@ -102,6 +108,8 @@ def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
     items = []
     for body in bodies:
         item = asdict(body)
+        if not any(body.geometry.rotation_deg):  # keys of databases made before rotations existed stay valid
+            item["geometry"].pop("rotation_deg")
         if body.geometry.shape == "mesh":
             item["geometry"]["mesh_file"] = _file_digest(Path(body.geometry.mesh_file))
         items.append(item)
@@ -123,6 +131,7 @@ def cached_database(
     cache_dir: str | Path,
     *,
     refresh: bool = False,
+    log=None,
 ) -> tuple[HydroDatabase, Path, bool]:
     """The database for ``bodies``: from ``cache_dir`` if present, else computed and stored.
 
@@ -134,17 +143,27 @@ def cached_database(
     if path.is_file() and not refresh:
         hdb = read_bemio(path)
         return hdb, path, False
-    hdb = compute_database(bodies, settings)
+    hdb = compute_database(bodies, settings, log=log)
     write_bemio(hdb, path, code=hdb.source)
     return read_bemio(path), path, True
 
 
-def compute_database(bodies: list[BemBody], settings: BemSettings) -> HydroDatabase:
-    """Run Capytaine for ``bodies`` (interaction included when several) and return the HDB."""
+def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> HydroDatabase:
+    """Run Capytaine for ``bodies`` (interaction included when several) and return the HDB.
+
+    Mesh-file bodies are checked first (errors raise :class:`HydroDatabaseError`, warnings go
+    to ``log``).
+    """
     import capytaine as cpt
     import xarray as xr
 
     logging.getLogger("capytaine").setLevel(logging.ERROR)  # its per-frequency warnings flood the console
+    for body in bodies:
+        if body.geometry.shape == "mesh":
+            report = check_mesh(body_mesh(body.geometry), body.name, body.cg)
+            report.raise_errors()
+            for message in report.warnings:
+                (log or log_warning)(f"body {body.name!r} (mesh {body.geometry.mesh_file}): {message}")
     cpt_bodies = [_floating_body(b) for b in bodies]
     system = cpt_bodies[0] if len(cpt_bodies) == 1 else cpt.Multibody(cpt_bodies)
     dofs = list(system.dofs)
@@ -159,8 +178,12 @@ def compute_database(bodies: list[BemBody], settings: BemSettings) -> HydroDatab
     omega = np.asarray(settings.omega, dtype=float)
     headings = np.radians(np.asarray(settings.headings_deg, dtype=float))
     test = xr.Dataset(coords={"omega": omega, "wave_direction": headings, **common})
-    ds = solver.fill_dataset(test, system, progress_bar=False)
-    ds_inf = solver.fill_dataset(xr.Dataset(coords={"omega": [np.inf], **common}), system, progress_bar=False)
+    try:
+        ds = solver.fill_dataset(test, system, progress_bar=False)
+        ds_inf = solver.fill_dataset(xr.Dataset(coords={"omega": [np.inf], **common}), system, progress_bar=False)
+    except Exception as exc:  # Capytaine raises its own types (e.g. GreenFunctionEvaluationError on NaN)
+        names = ", ".join(repr(b.name) for b in bodies)
+        raise HydroDatabaseError(f"Capytaine failed for bodies {names}: {type(exc).__name__}: {exc}") from None
 
     def matrix(da: xr.DataArray) -> np.ndarray:
         return da.transpose("omega", "influenced_dof", "radiating_dof").sel(
@@ -197,6 +220,19 @@ def compute_database(bodies: list[BemBody], settings: BemSettings) -> HydroDatab
     return hdb
 
 
+def log_warning(message: str) -> None:
+    _logger.warning(message)
+
+
+def body_mesh(geometry: BodyGeometry) -> SurfaceMesh:
+    """The whole hull (above and below water) of a body in world coordinates."""
+    if geometry.shape == "mesh":
+        local = read_mesh(geometry.mesh_file)
+    else:
+        local = from_capytaine(_primitive_mesh(geometry), geometry.shape)
+    return local.transformed(euler_xyz(geometry.rotation_deg), geometry.position)
+
+
 def _floating_body(body: BemBody):
     """Capytaine ``FloatingBody`` for one body: immersed mesh, lid, 6 rigid DOFs about its cg."""
     import capytaine as cpt
@@ -222,6 +258,14 @@ def _lid_panel(geometry: BodyGeometry) -> float:
 
 
 def _mesh(geometry: BodyGeometry):
+    """Capytaine mesh of a body in world coordinates (primitives keep Capytaine's quadrilaterals)."""
+    if geometry.shape == "mesh" or any(geometry.rotation_deg):
+        return to_capytaine(body_mesh(geometry))
+    return _primitive_mesh(geometry).translated(tuple(geometry.position))
+
+
+def _primitive_mesh(geometry: BodyGeometry):
+    """Capytaine mesh of a primitive in its local coordinates."""
     import capytaine as cpt
 
     g, ps = geometry, geometry.panel_size
@@ -245,14 +289,8 @@ def _mesh(geometry: BodyGeometry):
         res = tuple(max(2, math.ceil(s / ps)) for s in g.size)
         mesh = cpt.mesh_parallelepiped(size=tuple(g.size), center=(0.0, 0.0, 0.0), resolution=res)
     else:
-        path = Path(g.mesh_file)
-        if not path.is_file():
-            raise HydroDatabaseError(f"mesh file {path} does not exist")
-        try:
-            mesh = cpt.load_mesh(str(path))
-        except Exception as exc:  # Capytaine/meshio raise many types for unreadable files
-            raise HydroDatabaseError(f"cannot read mesh file {path}: {exc}") from None
-    return mesh.translated(tuple(g.position))
+        raise HydroDatabaseError(f"unknown primitive shape {g.shape!r}")
+    return mesh
 
 
 def _file_digest(path: Path) -> str:

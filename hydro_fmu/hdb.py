@@ -153,6 +153,50 @@ class HydroDatabase:
         parts.insert(0, f"body {self.body_names[k // 6]!r} {DOF_NAMES[k % 6]}")
         return " (first at " + ", ".join(parts) + ")"
 
+    def check_physics(self, dofs: np.ndarray | None = None, tolerance: float = 0.05) -> list[str]:
+        """Problems of the radiation coefficients on the degrees of freedom ``dofs`` (6N numbering).
+
+        Checked at every frequency (and at infinity for A): symmetry of A and B, and positive
+        semi-definiteness of B (no energy created by radiation). Entries are compared on the
+        scale of their DOFs, s_ij = sqrt(s_i s_j) with s_i = max over frequency of |X_ii|, so
+        translations and rotations mix fairly: |X_ij - X_ji| > tolerance s_ij, or an eigenvalue
+        of the symmetric part of S^-1/2 B S^-1/2 below -tolerance, is a problem. Returns one
+        message per quantity (worst place first); empty if all is well.
+        """
+        index = np.arange(self.n_dofs) if dofs is None else np.asarray(dofs, dtype=int)
+        where = self.source or "hydrodynamic database"
+        problems = []
+        for name in ("added_mass", "radiation_damping", "added_mass_inf"):
+            table = np.asarray(getattr(self, name))
+            table = table[None] if table.ndim == 2 else table
+            sub = table[:, index][:, :, index]
+            scale = np.sqrt(np.abs(np.einsum("wii->wi", sub)).max(axis=0))
+            scale[scale == 0] = 1.0
+            pair = np.outer(scale, scale)
+            rel = np.abs(sub - np.transpose(sub, (0, 2, 1))) / pair
+            if rel.max() > tolerance:
+                w, i, j = np.unravel_index(int(np.argmax(rel)), rel.shape)
+                at = f", omega = {self.omega[w]:g} rad/s" if name != "added_mass_inf" else ""
+                problems.append(
+                    f"{where}: {name} is not symmetric: between {self._dof_label(index[i])} and "
+                    f"{self._dof_label(index[j])}{at} the two entries differ by {rel.max():.1%} of their scale "
+                    f"({sub[w, i, j]:.4g} and {sub[w, j, i]:.4g})")
+            if name == "radiation_damping":
+                scaled = sub / pair
+                eig = np.linalg.eigvalsh(0.5 * (scaled + np.transpose(scaled, (0, 2, 1))))
+                w = int(np.argmin(eig[:, 0]))
+                if eig[w, 0] < -tolerance:
+                    vec = np.linalg.eigh(0.5 * (scaled[w] + scaled[w].T))[1][:, 0]
+                    k = int(np.argmax(np.abs(vec)))
+                    problems.append(
+                        f"{where}: radiation_damping is not positive semi-definite at omega = {self.omega[w]:g} rad/s "
+                        f"(scaled eigenvalue {eig[w, 0]:.3g}, mostly {self._dof_label(index[k])}): radiation would "
+                        "create energy")
+        return problems
+
+    def _dof_label(self, k: int) -> str:
+        return f"body {self.body_names[k // 6]!r} {DOF_NAMES[k % 6]}"
+
     # ------------------------------------------------------------------ derived quantities
     def heading_index(self, heading: float) -> int:
         """Index of the tabulated heading (rad) equal to ``heading`` within 1e-6 rad."""
@@ -193,6 +237,58 @@ class HydroDatabase:
         B = interp(self.radiation_damping, 0.0)
         Xw = interp(X, 0.0)
         return A, B, Xw
+
+    def excitation_at(self, omega: np.ndarray, heading: np.ndarray | float,
+                      table: np.ndarray | None = None) -> np.ndarray:
+        """Excitation per metre of amplitude (K, n) for components at (omega_k, heading_k).
+
+        Linear in frequency (zero above the last frequency, held below the first) and linear in
+        heading between the tabulated headings; if the headings cover the circle (the largest
+        gap, across 360 deg included, is no larger than the others) the table wraps round.
+        ``table`` replaces the excitation (e.g. the Froude-Krylov or diffraction part).
+        """
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        h = np.broadcast_to(np.asarray(heading, dtype=float), w.shape)
+        data = self.excitation if table is None else table
+        out = np.zeros((len(w), self.n_dofs), complex)
+        for value in np.unique(h):
+            rows = np.flatnonzero(h == value)
+            for index, weight in self._heading_weights(float(value)):
+                out[rows] += weight * self._interp_frequency(data[index], w[rows])
+        return out
+
+    def _interp_frequency(self, table: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """table (Nw, n) complex, linearly interpolated at w; zero above the last frequency."""
+        out = np.empty((len(w), table.shape[1]), complex)
+        for j in range(table.shape[1]):
+            out[:, j] = np.interp(w, self.omega, table[:, j].real) + 1j * np.interp(w, self.omega, table[:, j].imag)
+        out[w > self.omega[-1]] = 0.0
+        return out
+
+    def _heading_weights(self, heading: float) -> list[tuple[int, float]]:
+        """Tabulated heading indices and weights that interpolate linearly to ``heading`` (rad)."""
+        hs = self.headings
+        diff = np.abs(np.angle(np.exp(1j * (hs - heading))))
+        exact = int(np.argmin(diff))
+        if diff[exact] <= 1e-6:
+            return [(exact, 1.0)]
+        order = np.argsort(np.mod(hs - hs.min(), 2 * np.pi))
+        base = hs[order[0]]
+        rel = np.mod(hs[order] - base, 2 * np.pi)
+        x = np.mod(heading - base, 2 * np.pi)
+        gaps = np.diff(np.append(rel, 2 * np.pi))
+        wraps = len(hs) > 1 and gaps[-1] <= gaps[:-1].max() + 1e-9
+        if x <= rel[-1]:
+            k = int(np.searchsorted(rel, x)) - 1
+            f = (x - rel[k]) / (rel[k + 1] - rel[k])
+            return [(int(order[k]), 1 - f), (int(order[k + 1]), f)]
+        if wraps:
+            f = (x - rel[-1]) / (2 * np.pi - rel[-1])
+            return [(int(order[-1]), 1 - f), (int(order[0]), f)]
+        raise HydroDatabaseError(
+            f"{self.source or 'hydrodynamic database'}: wave heading {np.degrees(heading):g} deg is outside the "
+            f"tabulated headings ({', '.join(f'{np.degrees(v):g}' for v in hs)} deg); compute the database "
+            "with more headings (hydro.headings_deg)")
 
     def select_bodies(self, names: list[str]) -> HydroDatabase:
         """A database restricted to ``names`` (in that order), interaction blocks kept."""

@@ -2,29 +2,41 @@
 
 For the selected degrees of freedom of the hydrodynamic bodies,
 
-    F(t) = F_exc(t) - mu(t) - C x(t),
+    F(t) = F_exc(t) - mu(t) + F_hs(x) + F_visc(v),
 
-excitation (:mod:`hydro_fmu.excitation`), radiation memory (:mod:`hydro_fmu.radiation`) and
-linear hydrostatics (:mod:`hydro_fmu.hydrostatics`). The infinite-frequency added mass is not
-in F: :attr:`HydroModel.added_mass_inf` is published for the multibody mass matrix.
+excitation (:mod:`hydro_fmu.excitation`: superposition or impulse-response convolution; with a
+nonlinear Froude-Krylov force the database's diffraction part plus
+:mod:`hydro_fmu.nonlinear_hydrostatics`), radiation memory (:mod:`hydro_fmu.radiation`
+convolution or :mod:`hydro_fmu.state_space`), hydrostatics (linear -C x or nonlinear over the
+instantaneous wetted mesh) and viscous forces (:mod:`hydro_fmu.drag`). The infinite-frequency
+added mass is not in F: :attr:`HydroModel.added_mass_inf` is published for the multibody mass
+matrix. Only the selected bodies, degrees of freedom and force components are computed.
 
-Time stepping: inputs (x, v) are samples at communication points; the force at a point uses
-the inputs at that point (direct feedthrough). :meth:`HydroModel.advance` stores the velocity
-of the current point in the radiation history and moves on by a whole number of steps ``dt``.
+Time stepping: inputs (x, v) are samples at communication points; the force at a point uses the
+inputs at that point (direct feedthrough). :meth:`HydroModel.advance` commits the velocity of the
+current point to the radiation memory and moves on by the step: a whole number of convolution
+steps ``dt`` for the convolution, any step for the state space.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .excitation import ExcitationForce
-from .hdb import HydroDatabase
+from .drag import ViscousCoefficients, ViscousForce
+from .excitation import ExcitationConvolution, ExcitationForce
+from .hdb import DOF_NAMES, HydroDatabase
 from .hydrostatics import LinearHydrostatics
-from .radiation import RadiationMemory, impulse_response
-from .waves import Ramp, WaveComponents
+from .meshes import SurfaceMesh
+from .nonlinear_hydrostatics import BodyPressureModel
+from .radiation import RadiationMemory, impulse_response, irf_diagnostics, resample_damping
+from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
+from .waves import PhasorClock, Ramp, WaveComponents
+
+RADIATION_METHODS = ("convolution", "state_space")
+EXCITATION_METHODS = ("superposition", "convolution")
 
 
 @dataclass(frozen=True)
@@ -34,6 +46,40 @@ class ForceSwitches:
     excitation: bool = True
     radiation: bool = True
     hydrostatics: bool = True
+    viscous: bool = True
+
+
+@dataclass(frozen=True)
+class HydroOptions:
+    """How each force component is computed (beyond the radiation step and kernel length).
+
+    Attributes:
+        radiation_method: ``convolution`` (trapezoidal, step ``dt``) or ``state_space``.
+        irf_d_omega: frequency step (rad/s) of the impulse-response transform; 0 = the database's.
+        state_space_tolerance, state_space_max_order: order selection of the state-space fit.
+        excitation_method: ``superposition`` or ``convolution`` (non-causal impulse response).
+        excitation_irf_duration: half-length of the excitation kernel (s).
+        nonlinear_hydrostatics, nonlinear_froude_krylov: pressure integration over the wetted mesh.
+        meshes: body name -> hull mesh relative to its centre of gravity (nonlinear options).
+        viscous: per selected DOF viscous coefficients (None: no viscous force).
+    """
+
+    radiation_method: str = "convolution"
+    irf_d_omega: float = 0.0
+    state_space_tolerance: float = DEFAULT_TOLERANCE
+    state_space_max_order: int = DEFAULT_MAX_ORDER
+    excitation_method: str = "superposition"
+    excitation_irf_duration: float = 30.0
+    nonlinear_hydrostatics: bool = False
+    nonlinear_froude_krylov: bool = False
+    meshes: dict[str, SurfaceMesh] = field(default_factory=dict)
+    viscous: ViscousCoefficients | None = None
+
+    def __post_init__(self) -> None:
+        if self.radiation_method not in RADIATION_METHODS:
+            raise ValueError(f"radiation method must be one of {RADIATION_METHODS}, not {self.radiation_method!r}")
+        if self.excitation_method not in EXCITATION_METHODS:
+            raise ValueError(f"excitation method must be one of {EXCITATION_METHODS}, not {self.excitation_method!r}")
 
 
 @dataclass
@@ -44,6 +90,30 @@ class HydroForces:
     excitation: np.ndarray
     radiation: np.ndarray
     hydrostatic: np.ndarray
+    viscous: np.ndarray
+
+
+@dataclass
+class RadiationReport:
+    """What the radiation model is and how accurate it is (reported, not hidden).
+
+    Attributes:
+        method: ``convolution`` or ``state_space``.
+        kernel_samples: number of kernel samples (convolution).
+        order: state-space order (0 for the convolution).
+        kernel_error: state-space fit error against the impulse response (scaled, see
+            :func:`hydro_fmu.state_space.scaled_error`); 0 for the convolution.
+        frequency_error: error of the model's A(omega), B(omega) against the database (scaled);
+            for the convolution, that of the truncated impulse response itself.
+        warnings: impulse-response accuracy warnings.
+    """
+
+    method: str
+    kernel_samples: int = 0
+    order: int = 0
+    kernel_error: float = 0.0
+    frequency_error: float = float("nan")
+    warnings: list[str] = field(default_factory=list)
 
 
 class HydroModel:
@@ -58,6 +128,10 @@ class HydroModel:
         dt: time step of the radiation convolution (s); communication steps must be multiples of it.
         irf_duration: length of the impulse response kernel (s).
         switches: force components to compute.
+        options: methods and their settings.
+        record: an imported elevation record eta(t) at the origin (unramped, vectorised), if the sea
+            comes from one: the elevation output and the excitation convolution use it instead of
+            the component sum.
     """
 
     def __init__(
@@ -70,28 +144,109 @@ class HydroModel:
         dt: float,
         irf_duration: float,
         switches: ForceSwitches = ForceSwitches(),
+        options: HydroOptions = HydroOptions(),
+        record=None,
     ) -> None:
         if not dt > 0:
             raise ValueError(f"radiation time step must be positive (got {dt})")
         sub = hdb.select_bodies(bodies)
         self.hdb = sub
+        self.bodies = list(bodies)
+        self.dofs = [list(d) for d in dofs]
         self.index = np.array([6 * b + d for b, ds in enumerate(dofs) for d in ds], dtype=int)
+        self.labels = [f"{bodies[k // 6]} {DOF_NAMES[k % 6]}" for k in self.index]
         self.switches = switches
+        self.options = options
         self.waves = waves
         self.ramp = ramp
         self.dt = float(dt)
-        self.excitation = ExcitationForce(sub, waves, self.index, ramp)
-        self.hydrostatics = LinearHydrostatics(sub, self.index)
-        n_kernel = max(2, int(math.ceil(irf_duration / dt)) + 1)
-        t_kernel = np.arange(n_kernel) * dt
-        damping = sub.radiation_damping[:, self.index][:, :, self.index]
-        self.kernel_time = t_kernel
-        self.kernel = impulse_response(sub.omega, damping, t_kernel)
-        self.radiation = RadiationMemory(self.kernel, dt)
+        self.irf_duration = float(irf_duration)
         self.added_mass_inf = sub.added_mass_inf[np.ix_(self.index, self.index)]
         self.start_time = 0.0
-        self._grid_steps = 0
+        self._elapsed = 0.0
+        self.record = record
+        self._clock = PhasorClock(waves.omega)
+        self.excitation = self._excitation(record) if switches.excitation else None
+        self.hydrostatics = LinearHydrostatics(sub, self.index)
+        self.pressure_models = self._pressure_models()
+        self.viscous = (ViscousForce(options.viscous) if switches.viscous and options.viscous is not None
+                        and options.viscous.active else None)
+        self.report = RadiationReport(options.radiation_method)
+        self.radiation = self._radiation() if switches.radiation else None
 
+    # ------------------------------------------------------------------ construction
+    @property
+    def nonlinear(self) -> bool:
+        o = self.options
+        return (o.nonlinear_hydrostatics and self.switches.hydrostatics) or (
+            o.nonlinear_froude_krylov and self.switches.excitation)
+
+    def _excitation(self, record):
+        o = self.options
+        part = "diffraction" if o.nonlinear_froude_krylov else "total"
+        if o.excitation_method == "superposition":
+            return ExcitationForce(self.hdb, self.waves, self.index, self.ramp, part)
+        if o.nonlinear_froude_krylov:
+            raise ValueError("the excitation convolution cannot be combined with a nonlinear Froude-Krylov force")
+        if not self.waves.unidirectional:
+            raise ValueError("the excitation convolution needs a unidirectional sea (no directional spreading)")
+        eta = record if record is not None else self.waves.elevation
+        return ExcitationConvolution(self.hdb, self.index, self.waves.main_heading, eta,
+                                     o.excitation_irf_duration, self.dt, self.ramp)
+
+    def _pressure_models(self) -> dict[int, BodyPressureModel]:
+        if not self.nonlinear:
+            return {}
+        models = {}
+        for b, name in enumerate(self.bodies):
+            if name not in self.options.meshes:
+                raise ValueError(f"body {name!r}: the nonlinear hydrostatic/Froude-Krylov force needs its hull mesh")
+            models[b] = BodyPressureModel(self.options.meshes[name], self.hdb.cg[b], self.hdb.rho, self.hdb.g,
+                                          self.hdb.water_depth)
+        return models
+
+    def _radiation(self):
+        o = self.options
+        omega, damping = self.hdb.omega, self.hdb.radiation_damping[:, self.index][:, :, self.index]
+        if o.irf_d_omega > 0:
+            omega, damping = resample_damping(omega, damping, o.irf_d_omega)
+        n_kernel = max(2, int(math.ceil(self.irf_duration / self.dt)) + 1)
+        self.kernel_time = np.arange(n_kernel) * self.dt
+        self.kernel = impulse_response(omega, damping, self.kernel_time)
+        self.report.warnings = irf_diagnostics(omega, damping, self.kernel_time, self.kernel, self.labels)
+        self.report.kernel_samples = n_kernel
+        added_mass = self.hdb.added_mass[:, self.index][:, :, self.index]
+        if o.radiation_method == "convolution":
+            table = self.hdb.radiation_damping[:, self.index][:, :, self.index]
+            self.report.frequency_error = _kernel_frequency_error(
+                self.kernel_time, self.kernel, self.hdb.omega, added_mass, table, self.added_mass_inf,
+                self._scale_floors(table))
+            return RadiationMemory(self.kernel, self.dt)
+        floors = self._scale_floors(self.kernel)
+        fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
+                              o.state_space_max_order,
+                              kernel_function=lambda t: impulse_response(omega, damping, t), floors=floors)
+        self.state_space = fit
+        self.report.order = fit.order
+        self.report.kernel_error = fit.kernel_error
+        self.report.frequency_error = frequency_error(
+            fit, self.hdb.omega, added_mass, self.hdb.radiation_damping[:, self.index][:, :, self.index],
+            self.added_mass_inf, self._scale_floors(self.hdb.radiation_damping[:, self.index][:, :, self.index]))
+        return StateSpaceMemory(fit)
+
+    def _scale_floors(self, table: np.ndarray) -> np.ndarray:
+        """1e-3 of the largest diagonal norm among the DOFs of the same kind (translation, rotation)."""
+        from .state_space import dof_scales
+
+        s = dof_scales(table)
+        rotation = self.index % 6 >= 3
+        floors = np.zeros_like(s)
+        for kind in (rotation, ~rotation):
+            if kind.any():
+                floors[kind] = 1e-3 * s[kind].max()
+        return floors
+
+    # ------------------------------------------------------------------ forces
     @property
     def n(self) -> int:
         """Number of selected degrees of freedom."""
@@ -100,26 +255,64 @@ class HydroModel:
     def forces(self, t: float, x: np.ndarray, v: np.ndarray) -> HydroForces:
         """Force components at time ``t`` (s) for displacement ``x`` and velocity ``v``."""
         zero = np.zeros(self.n)
-        exc = self.excitation(t) if self.switches.excitation else zero
-        rad = -self.radiation.force(v) if self.switches.radiation else zero
-        hs = self.hydrostatics(x) if self.switches.hydrostatics else zero
-        return HydroForces(total=exc + rad + hs, excitation=exc, radiation=rad, hydrostatic=hs)
+        exc = self.excitation(t) if self.excitation is not None else zero
+        rad = -self.radiation.force(v) if self.radiation is not None else zero
+        visc = self.viscous(v) if self.viscous is not None else zero
+        o, sw = self.options, self.switches
+        hs = self.hydrostatics(x) if sw.hydrostatics and not o.nonlinear_hydrostatics else zero
+        if self.nonlinear:
+            hs_nl, fk = self._pressure_forces(t, x)
+            if o.nonlinear_hydrostatics and sw.hydrostatics:
+                hs = hs_nl
+            if o.nonlinear_froude_krylov and sw.excitation:
+                exc = exc + fk
+        return HydroForces(total=exc + rad + hs + visc, excitation=exc, radiation=rad, hydrostatic=hs, viscous=visc)
+
+    def _pressure_forces(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Nonlinear hydrostatic and Froude-Krylov forces on the selected DOFs."""
+        hs = np.zeros(self.n)
+        fk = np.zeros(self.n)
+        o = self.options
+        start = 0
+        for b, dofs in enumerate(self.dofs):
+            pose = np.zeros(6)
+            pose[dofs] = x[start : start + len(dofs)]
+            f_hs, f_fk = self.pressure_models[b].forces(
+                pose, t, self.waves, self.ramp, hydrostatics=o.nonlinear_hydrostatics and self.switches.hydrostatics,
+                froude_krylov=o.nonlinear_froude_krylov and self.switches.excitation)
+            hs[start : start + len(dofs)] = f_hs[dofs]
+            fk[start : start + len(dofs)] = f_fk[dofs]
+            start += len(dofs)
+        return hs, fk
 
     def advance(self, t: float, h: float, v: np.ndarray) -> None:
-        """Commit the velocity at time ``t`` and step to ``t + h``; ``h`` must be a whole number
-        of radiation steps ``dt`` (any number, so variable communication steps work)."""
-        q = int(round(h / self.dt))
-        if q < 1 or abs(h - q * self.dt) > 1e-9 * self.dt:
-            raise ValueError(
-                f"communication step {h:g} s is not a whole multiple of the radiation convolution step "
-                f"{self.dt:g} s; set the hydro FMU parameter radiation.dt to the master's (smallest) macro step"
-            )
-        expected = self.start_time + self._grid_steps * self.dt
-        if abs(t - expected) > 1e-6 * self.dt:
+        """Commit the velocity at time ``t`` and step to ``t + h`` (convolution: ``h`` a whole number
+        of radiation steps ``dt``, any number, so variable communication steps work; state space: any h)."""
+        expected = self.start_time + self._elapsed
+        if abs(t - expected) > 1e-6 * max(self.dt, abs(h)):
             raise ValueError(f"step starts at t = {t:g} s but the radiation history is at t = {expected:g} s")
-        self.radiation.advance(v, q)
-        self._grid_steps += q
+        if self.radiation is not None:
+            self.radiation.step(v, h)
+        elif not h > 0:
+            raise ValueError(f"a step must be positive (got {h})")
+        self._elapsed += h
 
     def elevation(self, t: float) -> float:
-        """Incident wave elevation at the world origin (m)."""
-        return self.waves.elevation(t, self.ramp)
+        """Incident wave elevation at the world origin (m): the record if imported, else the components."""
+        if self.record is not None:
+            return float(self.record(t)) * self.ramp(t)
+        return float(np.real(self._clock(t) @ self.waves.complex_amplitude)) * self.ramp(t)
+
+
+def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,
+                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray) -> float:
+    """Scaled error of the truncated, sampled kernel's A(omega), B(omega) against the database."""
+    from .state_space import dof_scales, scaled_error
+
+    dt = t[1] - t[0]
+    w = np.full(len(t), dt)
+    w[0] = w[-1] = dt / 2
+    b = np.einsum("wt,tij->wij", np.cos(np.outer(omega, t)) * w, kernel)
+    wa = -np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * w, kernel)
+    ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
+    return scaled_error(ref, np.concatenate([b, wa], axis=0), dof_scales(ref, floors))

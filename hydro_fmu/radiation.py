@@ -23,11 +23,18 @@ K(0) dt / 2, so the force depends directly on the current velocity input. Veloci
 t = 0 are zero (the device starts from rest). Communication steps may be any integer multiple q
 of dt: the velocity between two communication points is interpolated linearly onto the grid
 (still second order).
+
+Diagnostics (:func:`irf_diagnostics`): the kernel is trusted only where the database allows it;
+a warning is given when the kernel is longer than pi / d_omega (largest frequency step, the
+first one from 0 included), when B has not decayed at the highest frequency (truncation ripple),
+and when K has not decayed at the end of the kernel (memory cut off).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from .transforms import fourier_integral
 
 
 def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -40,20 +47,64 @@ def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> n
     """
     w = np.concatenate([[0.0], np.asarray(omega, dtype=float)])
     B = np.concatenate([np.zeros((1,) + damping.shape[1:]), damping], axis=0)
-    flat = B.reshape(len(w), -1)
-    slope = np.diff(flat, axis=0) / np.diff(w)[:, None]  # (Nw, m)
-    t = np.asarray(t, dtype=float)
-    out = np.empty((len(t), flat.shape[1]))
-    for i, ti in enumerate(t):
-        if ti == 0.0:
-            out[i] = np.trapezoid(flat, w, axis=0)
-            continue
-        s, c = np.sin(w * ti), np.cos(w * ti)
-        # int_a^b (f_a + s (w - a)) cos(w t) dw = [f sin(w t)/t]_a^b + slope [cos(w t)/t^2]_a^b
-        first = (flat[1:] * s[1:, None] - flat[:-1] * s[:-1, None]) / ti
-        second = slope * (c[1:, None] - c[:-1, None]) / ti**2
-        out[i] = np.sum(first + second, axis=0)
-    return (2.0 / np.pi) * out.reshape((len(t),) + damping.shape[1:])
+    return (2.0 / np.pi) * np.real(fourier_integral(w, B, t))
+
+
+def resample_damping(omega: np.ndarray, damping: np.ndarray, d_omega: float) -> tuple[np.ndarray, np.ndarray]:
+    """B on a uniform grid of step ``d_omega`` from d_omega up to the last frequency, by
+    shape-preserving cubic (PCHIP) interpolation through (0, 0) and the database values.
+
+    A finer grid than the database's makes the interpolant smoother (C1 instead of kinks at
+    every node), which lengthens the time over which the transform is accurate; it adds no
+    information beyond the database.
+    """
+    from scipy.interpolate import PchipInterpolator
+
+    if not d_omega > 0:
+        raise ValueError(f"IRF frequency step must be positive (got {d_omega})")
+    w = np.concatenate([[0.0], omega])
+    table = np.concatenate([np.zeros((1,) + damping.shape[1:]), damping], axis=0)
+    grid = np.arange(1, int(np.floor(omega[-1] / d_omega + 1e-9)) + 1) * d_omega
+    if grid[-1] < omega[-1] - 1e-9:
+        grid = np.append(grid, omega[-1])
+    return grid, PchipInterpolator(w, table, axis=0)(grid)
+
+
+def irf_diagnostics(omega: np.ndarray, damping: np.ndarray, t: np.ndarray, kernel: np.ndarray,
+                    labels: list[str], *, decay: float = 0.05) -> list[str]:
+    """Warnings about the accuracy of K(t) computed from B(omega) (module docstring).
+
+    Args:
+        omega, damping: the table the kernel was computed from (Nw,), (Nw, n, n).
+        t, kernel: the kernel's times and values (m,), (m, n, n).
+        labels: a name for each degree of freedom, for the messages.
+        decay: fraction of the peak that B at the last frequency, or K over the last tenth of
+            the kernel, may keep without a warning.
+    """
+    out = []
+    steps = np.diff(np.concatenate([[0.0], omega]))
+    limit = np.pi / steps.max()
+    if t[-1] > limit * (1 + 1e-9):
+        out.append(
+            f"radiation: the impulse response is {t[-1]:g} s long but the database's frequency step "
+            f"{steps.max():g} rad/s resolves it only up to pi/d_omega = {limit:.3g} s: beyond that K(t) is "
+            "unreliable; shorten hydro.irf_duration or compute the database on a finer frequency grid")
+    diag_b = np.abs(np.einsum("wii->wi", damping))
+    diag_k = np.abs(np.einsum("tii->ti", kernel))
+    tail = t >= 0.9 * t[-1]
+    for i, label in enumerate(labels):
+        peak = diag_b[:, i].max()
+        if peak > 0 and diag_b[-1, i] > decay * peak:
+            out.append(
+                f"radiation: {label}: B at the highest frequency {omega[-1]:g} rad/s is still "
+                f"{diag_b[-1, i] / peak:.0%} of its peak; cutting it there ripples K(t) with period "
+                f"{2 * np.pi / omega[-1]:.3g} s (extend the database's frequency range)")
+        kpeak = diag_k[:, i].max()
+        if kpeak > 0 and tail.any() and diag_k[tail, i].max() > decay * kpeak:
+            out.append(
+                f"radiation: {label}: K(t) is still {diag_k[tail, i].max() / kpeak:.0%} of its peak at the end of the "
+                f"{t[-1]:g} s impulse response: memory beyond it is lost (lengthen hydro.irf_duration)")
+    return out
 
 
 class RadiationMemory:
@@ -110,6 +161,16 @@ class RadiationMemory:
         self._buffer[self._head + k] = v
         self._head = (self._head + 1) % k
         self.steps += 1
+
+    def step(self, v_now: np.ndarray, h: float) -> None:
+        """Commit the current velocity and move ``h`` seconds on: a whole number of grid steps."""
+        q = int(round(h / self.dt))
+        if q < 1 or abs(h - q * self.dt) > 1e-9 * self.dt:
+            raise ValueError(
+                f"communication step {h:g} s is not a whole multiple of the radiation convolution step "
+                f"{self.dt:g} s; set the hydro FMU parameter radiation.dt to the master's (smallest) macro step, "
+                "or use the state-space radiation model, which takes any step")
+        self.advance(v_now, q)
 
     def advance(self, v_now: np.ndarray, q: int = 1) -> None:
         """Commit the velocity of the current time (and the interpolated points since the last

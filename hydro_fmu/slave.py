@@ -1,44 +1,67 @@
 """Hydrodynamics FMU (thin PythonFMU wrapper around :class:`hydro_fmu.model.HydroModel`).
 
 Variables (see ``docs/fmu_variables.md``), for each hydrodynamic body ``b`` and each of its
-active degrees of freedom ``i`` (1 surge ... 6 yaw):
+active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects exists:
 
 * inputs ``b.x[i]`` displacement from equilibrium (m, rad), ``b.v[i]`` velocity (m/s, rad/s);
-* outputs ``b.F[i]`` total hydrodynamic force (N, N m) and its parts ``b.F_exc[i]``,
-  ``b.F_rad[i]`` (radiation memory only) and ``b.F_hs[i]``; ``wave.elevation`` at the origin;
+* outputs ``b.F[i]`` total hydrodynamic force (N, N m) and the parts that are switched on:
+  ``b.F_exc[i]``, ``b.F_rad[i]`` (radiation memory only), ``b.F_hs[i]``, ``b.F_visc[i]``;
+  ``wave.elevation`` at the origin;
 * calculated parameters ``A_inf[k,l]``: infinite-frequency added mass between scene degrees of
-  freedom k and l (k = 6 (body index) + i), to be copied into the multibody FMU;
-* parameters ``wave.height``, ``wave.period``, ``wave.phase``, ``wave.heading``,
-  ``wave.ramp_time``, ``radiation.dt``, ``radiation.irf_duration``.
+  freedom k and l (k = 6 (body index) + i), to be copied into the multibody FMU; and the
+  radiation model's report ``radiation.order``, ``radiation.fit_error``,
+  ``radiation.frequency_error``;
+* parameters of the sea (by kind: regular ``wave.height``, ``wave.period``, ``wave.phase``;
+  irregular ``wave.hs``, ``wave.tp``, ``wave.gamma``, ``wave.seed``; all ``wave.heading``,
+  ``wave.ramp_time``) and of the radiation model (``radiation.dt``, ``radiation.irf_duration``,
+  state space ``radiation.state_space_tolerance``).
 
-The scene (bodies, active DOFs, wave kind) is fixed at build time in ``scene_spec.json`` and
-the database in the BEMIO file next to it, both in the FMU's resources.
+The scene (bodies, active DOFs, sea, methods) is fixed at build time in ``scene_spec.json``, the
+database in the BEMIO file next to it, and imported wave data and hull meshes beside them, all in
+the FMU's resources. The model is built when the FMU is instantiated and rebuilt at the end of
+initialisation if a parameter changed.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pythonfmu.enums import Fmi2Status
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer
+from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
 from fmu_base.slave import VectorSlave, load_spec, matrix_names
 
 from .bemio import read_bemio
-from .model import ForceSwitches, HydroModel
-from .waves import Ramp, WaveComponents, regular_wave, still_water
+from .drag import ViscousCoefficients
+from .meshes import read_meshes
+from .model import ForceSwitches, HydroModel, HydroOptions
+from .sea import SeaSpec, build_sea
 
 DOF_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
 FORCE_UNITS = ("N", "N", "N", "N.m", "N.m", "N.m")
+
+# Sea parameters per wave kind: (variable, SeaSpec field, unit, description).
+WAVE_PARAMETERS = {
+    "regular": (("wave.height", "height", "m", "regular wave height, crest to trough"),
+                ("wave.period", "period", "s", "regular wave period"),
+                ("wave.phase", "phase", "rad", "regular wave phase at the origin")),
+    "irregular": (("wave.hs", "hs", "m", "significant wave height"),
+                  ("wave.tp", "tp", "s", "peak period"),
+                  ("wave.gamma", "gamma", "1", "JONSWAP peak enhancement factor")),
+    "elevation": (),
+    "still": (),
+}
 
 
 class HydroSlave(VectorSlave):
     """Hydrodynamic forces of a scene's bodies (Cummins equation, linear potential flow)."""
 
     author = "wec-cosim"
-    description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics"
+    description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics, drag"
     state_attributes = ("model", "time")
 
     def __init__(self, **kwargs: Any) -> None:
@@ -48,30 +71,43 @@ class HydroSlave(VectorSlave):
         bodies = self.spec["bodies"]
         self.body_names = [b["name"] for b in bodies]
         self.dofs = [list(b["dofs"]) for b in bodies]
+        self.sea_spec = SeaSpec.from_json(self.spec["waves"]).with_files(self.resources)
+        self.switches = ForceSwitches(**self.spec.get("switches", {}))
+        self.seed = int(self.sea_spec.seed)
         self.model: HydroModel | None = None
+        self._built_with: tuple | None = None
         self.time = 0.0
         self._register_parameters()
         self._register_body_variables()
         self._register_added_mass()
+        self._register_report()
+        try:  # built now so that the calculated parameters are right from the start
+            self._build_if_changed()
+        except ValueError:  # e.g. no state-space fit within the tolerance: reported at initialisation
+            self.model = None
 
     # ------------------------------------------------------------------ variables
     def _register_parameters(self) -> None:
-        w = self.spec["waves"]
-        self.add_reals("wave.height", ["wave.height"], "parameter", [w.get("height", 0.0)], unit="m",
-                       description="regular wave height, crest to trough")
-        self.add_reals("wave.period", ["wave.period"], "parameter", [w.get("period", 1.0)], unit="s",
-                       description="regular wave period")
-        self.add_reals("wave.phase", ["wave.phase"], "parameter", [w.get("phase", 0.0)], unit="rad",
-                       description="regular wave phase at the origin")
-        self.add_reals("wave.heading", ["wave.heading"], "parameter", [w.get("heading", 0.0)], unit="rad",
-                       description="wave direction, 0 = towards +x")
-        self.add_reals("wave.ramp_time", ["wave.ramp_time"], "parameter", [w.get("ramp_time", 0.0)],
-                       unit="s", description="duration of the half-cosine start-up ramp")
+        sea = self.sea_spec
+        wave = [*WAVE_PARAMETERS[sea.kind]]
+        if sea.kind != "still":
+            wave += [("wave.heading", "heading", "rad", "wave direction, 0 = towards +x"),
+                     ("wave.ramp_time", "ramp_time", "s", "duration of the half-cosine start-up ramp")]
+        for name, key, unit, desc in wave:
+            self.add_reals(name, [name], "parameter", [getattr(sea, key)], unit=unit, description=desc)
+        if sea.kind == "irregular":
+            self.register_variable(Integer(
+                "wave.seed", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                initial=Fmi2Initial.exact, description="seed of the random phases (same seed, same sea)",
+                getter=lambda: self.seed, setter=lambda v: setattr(self, "seed", int(v))))
         r = self.spec["radiation"]
-        self.add_reals("radiation.dt", ["radiation.dt"], "parameter", [r["dt"]], unit="s",
-                       description="radiation convolution step; must equal the master's macro step")
-        self.add_reals("radiation.irf_duration", ["radiation.irf_duration"], "parameter",
-                       [r["irf_duration"]], unit="s", description="length of the radiation impulse response")
+        radiation = [("radiation.dt", r["dt"], "radiation convolution step; must divide the master's macro steps"),
+                     ("radiation.irf_duration", r["irf_duration"], "length of the radiation impulse response")]
+        for name, value, desc in radiation:
+            self.add_reals(name, [name], "parameter", [value], unit="s", description=desc)
+        if r.get("method") == "state_space":
+            self.add_reals("radiation.state_space_tolerance", ["radiation.state_space_tolerance"], "parameter",
+                           [r["state_space_tolerance"]], description="largest scaled error of the fitted kernel")
         self.add_reals("wave.elevation", ["wave.elevation"], "output", [0.0], unit="m",
                        description="incident wave elevation at the world origin")
 
@@ -82,18 +118,25 @@ class HydroSlave(VectorSlave):
         n = sum(len(d) for d in self.dofs)
         zeros = np.zeros(n)
         all_dofs = [d for ds in self.dofs for d in ds]
-        for key, table, causality, desc in (
-            ("x", DOF_UNITS, "input", "displacement from equilibrium"),
-            ("v", VEL_UNITS, "input", "velocity"),
-            ("F", FORCE_UNITS, "output", "total hydrodynamic force (radiation memory, excitation, hydrostatics)"),
-            ("F_exc", FORCE_UNITS, "output", "wave excitation force"),
-            ("F_rad", FORCE_UNITS, "output", "radiation memory force (A_inf part excluded)"),
-            ("F_hs", FORCE_UNITS, "output", "linear hydrostatic restoring force"),
-        ):
-            # Direct feedthrough: hydrostatics from x, radiation memory from the current v (all bodies).
-            deps = {"F": ("x", "v"), "F_rad": ("v",), "F_hs": ("x",)}.get(key, ())
-            self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
-                           description=desc, depends_on=deps)
+        sw = self.switches
+        nonlinear = self.spec.get("nonlinear", {})
+        viscous = self.spec.get("viscous") is not None and sw.viscous
+        # Direct feedthrough: hydrostatics from x, radiation memory and drag from the current v,
+        # a nonlinear Froude-Krylov force from x (the wetted surface moves with the body).
+        exc_deps = ("x",) if nonlinear.get("froude_krylov") else ()
+        parts = [("x", DOF_UNITS, "input", "displacement from equilibrium", (), True),
+                 ("v", VEL_UNITS, "input", "velocity", (), True),
+                 ("F", FORCE_UNITS, "output", "total hydrodynamic force (the parts below)", ("x", "v"), True),
+                 ("F_exc", FORCE_UNITS, "output", "wave excitation force", exc_deps, sw.excitation),
+                 ("F_rad", FORCE_UNITS, "output", "radiation memory force (A_inf part excluded)", ("v",),
+                  sw.radiation),
+                 ("F_hs", FORCE_UNITS, "output", "hydrostatic restoring force", ("x",), sw.hydrostatics),
+                 ("F_visc", FORCE_UNITS, "output", "viscous force (linear damping and quadratic drag)", ("v",),
+                  viscous)]
+        for key, table, causality, desc, deps, present in parts:
+            if present:
+                self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
+                               description=desc, depends_on=deps)
 
     def _register_added_mass(self) -> None:
         index = [6 * b + d for b, ds in enumerate(self.dofs) for d in ds]
@@ -104,46 +147,89 @@ class HydroSlave(VectorSlave):
         self.add_reals("A_inf", matrix_names("A_inf", labels, labels), "calculatedParameter", values.ravel(),
                        unit=units, description="infinite-frequency added mass (scene DOF numbering)")
 
+    def _register_report(self) -> None:
+        for name, desc in (("radiation.order", "state-space order of the radiation model (0: convolution)"),
+                           ("radiation.fit_error", "scaled error of the fitted impulse response (0: convolution)"),
+                           ("radiation.frequency_error", "scaled error of the model's A, B against the database")):
+            self.add_reals(name, [name], "calculatedParameter", [0.0], description=desc)
+
+    # ------------------------------------------------------------------ model
+    def _parameters(self) -> dict[str, float]:
+        return {k: float(a[0]) for k, a in self._arrays.items() if k.startswith(("wave.", "radiation."))
+                and k not in ("wave.elevation", "radiation.order", "radiation.fit_error", "radiation.frequency_error")}
+
+    def _build_if_changed(self) -> None:
+        p = self._parameters()
+        signature = (tuple(sorted(p.items())), self.seed)
+        if self.model is not None and signature == self._built_with:
+            return
+        self.model = self._build_model(p)
+        self._built_with = signature
+        report = self.model.report
+        self.array("radiation.order")[0] = report.order
+        self.array("radiation.fit_error")[0] = report.kernel_error
+        self.array("radiation.frequency_error")[0] = report.frequency_error
+
+    def _build_model(self, p: dict[str, float]) -> HydroModel:
+        changes = {key: p[name] for kind in WAVE_PARAMETERS.values() for name, key, _, _ in kind if name in p}
+        for name, key in (("wave.heading", "heading"), ("wave.ramp_time", "ramp_time")):
+            if name in p:
+                changes[key] = p[name]
+        sea = build_sea(dataclasses.replace(self.sea_spec, seed=self.seed, **changes))
+        r, e = self.spec["radiation"], self.spec["excitation"]
+        nonlinear = self.spec.get("nonlinear", {})
+        viscous = self.spec.get("viscous")
+        options = HydroOptions(
+            radiation_method=r.get("method", "convolution"), irf_d_omega=r.get("irf_d_omega", 0.0),
+            state_space_tolerance=p.get("radiation.state_space_tolerance", r.get("state_space_tolerance", 0.02)),
+            state_space_max_order=r.get("state_space_max_order", 60),
+            excitation_method=e.get("method", "superposition"), excitation_irf_duration=e.get("irf_duration", 30.0),
+            nonlinear_hydrostatics=nonlinear.get("hydrostatics", False),
+            nonlinear_froude_krylov=nonlinear.get("froude_krylov", False),
+            meshes=read_meshes(Path(self.resources) / nonlinear["meshes"]) if nonlinear.get("meshes") else {},
+            viscous=None if viscous is None else ViscousCoefficients(np.array(viscous["linear"]),
+                                                                     np.array(viscous["quadratic"])))
+        model = HydroModel(self.hdb, self.body_names, self.dofs, sea.components, sea.ramp,
+                           dt=p["radiation.dt"], irf_duration=p["radiation.irf_duration"], switches=self.switches,
+                           options=options, record=sea.record)
+        return model
+
+    def _log_report(self, model: HydroModel) -> None:
+        report = model.report
+        if model.radiation is not None:
+            if report.method == "state_space":
+                text = (f"radiation: state space of order {report.order}, impulse-response error "
+                        f"{report.kernel_error:.3g} (tolerance {model.options.state_space_tolerance:g})")
+            else:
+                text = f"radiation: convolution over {report.kernel_samples} kernel samples"
+            text += f", error of A and B against the database {report.frequency_error:.3g}"
+            self.log(text, Fmi2Status.ok)
+        for message in report.warnings:
+            self.log(message, Fmi2Status.warning)
+
     # ------------------------------------------------------------------ FMI life cycle
     def setup_experiment(self, start_time: float, stop_time: float | None, tolerance: float | None) -> None:
         self.time = float(start_time)
 
     def exit_initialization_mode(self) -> None:
-        self.model = self._build_model()
+        try:
+            self._build_if_changed()
+        except ValueError as exc:  # bad parameter values: explain, then let the host see the error
+            self.log(str(exc), Fmi2Status.error)
+            raise
+        self._log_report(self.model)  # here, not at instantiation: hosts enable logging after that
         self.model.start_time = self.time
         self._ready = True
         self.mark_outputs_stale()
-
-    def _build_model(self) -> HydroModel:
-        p = {k: float(self.array(k)[0]) for k in (
-            "wave.height", "wave.period", "wave.phase", "wave.heading", "wave.ramp_time",
-            "radiation.dt", "radiation.irf_duration")}
-        return HydroModel(
-            self.hdb,
-            self.body_names,
-            self.dofs,
-            self._waves(p),
-            Ramp(p["wave.ramp_time"]),
-            dt=p["radiation.dt"],
-            irf_duration=p["radiation.irf_duration"],
-            switches=ForceSwitches(**self.spec.get("switches", {})),
-        )
-
-    def _waves(self, p: dict[str, float]) -> WaveComponents:
-        kind = self.spec["waves"]["kind"]
-        if kind == "regular":
-            return regular_wave(p["wave.height"], p["wave.period"], p["wave.phase"], p["wave.heading"])
-        if kind == "still":
-            return still_water()
-        raise ValueError(f"unknown wave kind {kind!r} in the FMU's scene specification")
 
     def update_outputs(self) -> None:
         assert self.model is not None
         f = self.model.forces(self.time, self.array("x"), self.array("v"))
         self.array("F")[:] = f.total
-        self.array("F_exc")[:] = f.excitation
-        self.array("F_rad")[:] = f.radiation
-        self.array("F_hs")[:] = f.hydrostatic
+        for key, value in (("F_exc", f.excitation), ("F_rad", f.radiation), ("F_hs", f.hydrostatic),
+                           ("F_visc", f.viscous)):
+            if key in self._arrays:
+                self.array(key)[:] = value
         self.array("wave.elevation")[0] = self.model.elevation(self.time)
 
     def do_step(self, current_time: float, step_size: float) -> bool:

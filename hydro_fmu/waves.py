@@ -1,9 +1,10 @@
 """Incident waves as a sum of linear (Airy) components, plus the start-up ramp.
 
-A sea state is a set of components ``(omega_k, a_k, phi_k)`` travelling at one heading
-``beta`` (rad, 0 = towards +x). The elevation at a point (x, y) is
+A sea state is a set of components ``(omega_k, a_k, phi_k, beta_k)``, each travelling at its
+heading ``beta_k`` (rad, 0 = towards +x; one heading for all in a unidirectional sea). The
+elevation at a point (x, y) is
 
-    eta(t, x, y) = r(t) * sum_k a_k cos(omega_k t - k_k (x cos beta + y sin beta) + phi_k),
+    eta(t, x, y) = r(t) * sum_k a_k cos(omega_k t - k_k (x cos beta_k + y sin beta_k) + phi_k),
 
 with ``r(t)`` the ramp. Complex amplitudes use the ``exp(+i omega t)`` convention of
 :mod:`hydro_fmu.hdb`: component k has complex amplitude ``a_k exp(i phi_k)`` at the origin.
@@ -40,19 +41,36 @@ class Ramp:
 
 @dataclass(frozen=True)
 class WaveComponents:
-    """Linear wave components at one heading.
+    """Linear wave components.
 
     Attributes:
         omega: angular frequencies (K,), rad/s.
         amplitude: amplitudes (K,), m.
         phase: phases (K,), rad, at the world origin.
-        heading: propagation direction, rad (0 = towards +x).
+        heading: propagation direction, rad (0 = towards +x): one value for all components or
+            one per component (directional spreading).
     """
 
     omega: np.ndarray
     amplitude: np.ndarray
     phase: np.ndarray
-    heading: float = 0.0
+    heading: float | np.ndarray = 0.0
+
+    @cached_property
+    def headings(self) -> np.ndarray:
+        """Heading of each component (K,), rad."""
+        return np.broadcast_to(np.asarray(self.heading, dtype=float), np.shape(self.omega)).copy()
+
+    @property
+    def unidirectional(self) -> bool:
+        """True if every component travels at the same heading."""
+        h = self.headings
+        return len(h) == 0 or bool(np.all(np.abs(np.angle(np.exp(1j * (h - h[0])))) < 1e-12))
+
+    @property
+    def main_heading(self) -> float:
+        """The heading of a unidirectional sea (rad); for a spread sea, the first component's."""
+        return float(np.ravel(self.heading)[0]) if np.size(self.heading) else 0.0
 
     @cached_property
     def complex_amplitude(self) -> np.ndarray:
@@ -64,7 +82,77 @@ class WaveComponents:
         if np.ndim(t) == 0:
             return float(np.real(np.exp(1j * self.omega * t) @ self.complex_amplitude)) * ramp(float(t))
         tt = np.asarray(t, dtype=float)
-        return np.real(np.exp(1j * np.outer(tt, self.omega)) @ self.complex_amplitude) * ramp(tt)
+        return self._sum_on_times(tt, self.complex_amplitude[:, None])[:, 0] * ramp(tt)
+
+    def _sum_on_times(self, t: np.ndarray, coefficients: np.ndarray, block: int = 256) -> np.ndarray:
+        """Re[sum_k exp(i omega_k t) c_k] for each time (len(t), m), c (K, m).
+
+        On a uniform grid the phasors of a block of ``block`` samples are exp(i omega t_b)
+        exp(i omega tau_j) with the same tau_j in every block: one table of exponentials and one
+        matrix product per block instead of len(t) K exponentials (exact, no recurrence drift).
+        """
+        n = len(t)
+        steps = np.diff(t)
+        if n < 2 * block or np.ptp(steps) > 1e-9 * max(abs(steps[0]), 1e-300):
+            return np.real(np.exp(1j * np.outer(t, self.omega)) @ coefficients)
+        dt = float(t[1] - t[0])
+        table = np.exp(1j * np.outer(np.arange(block) * dt, self.omega))  # (block, K)
+        starts = t[::block]  # block b covers samples b*block .. b*block + block - 1
+        start_phasors = np.exp(1j * np.outer(self.omega, starts))  # (K, blocks)
+        out = np.empty((n, coefficients.shape[1]))
+        for m in range(coefficients.shape[1]):
+            values = np.real(table @ (start_phasors * coefficients[:, m : m + 1]))  # (block, blocks)
+            out[:, m] = values.T.reshape(-1)[:n]
+        return out
+
+
+class PhasorClock:
+    """exp(i omega_k t) for a sequence of times, cheaply when the times advance by a repeated step.
+
+    A new step delta costs one table exp(i omega delta); each time after that one complex product
+    per component instead of an exponential (exponentials cost ~100-200 ns each here: 1.5 ms per
+    step for the 7400 components of a 3-hour equal-frequency sea). A step counts as repeated when it
+    matches to 8 ulps of t; the exact exponential is taken again every ``refresh`` products, so the
+    error stays within ``refresh`` times the round-off of omega t itself (~1e-11 at t = 2000 s).
+    """
+
+    def __init__(self, omega: np.ndarray, refresh: int = 32) -> None:
+        self.omega = np.asarray(omega, dtype=float)
+        self.refresh = refresh
+        self._t = math.nan
+        self._phasor = np.ones(len(self.omega), complex)
+        self._delta = math.nan
+        self._rotation = self._phasor
+        self._count = 0
+
+    def __call__(self, t: float) -> np.ndarray:
+        t = float(t)
+        if t == self._t:
+            return self._phasor
+        delta = t - self._t
+        if self._count < self.refresh and abs(delta - self._delta) <= 8 * 2.2e-16 * max(abs(t), 1.0):
+            self._phasor = self._phasor * self._rotation
+            self._count += 1
+        else:
+            self._phasor = np.exp(1j * self.omega * t)
+            self._count = 0
+            if math.isfinite(delta) and delta != self._delta:
+                self._delta = delta
+                self._rotation = np.exp(1j * self.omega * delta)
+        self._t = t
+        return self._phasor
+
+
+def elevation_at_points(waves: WaveComponents, t: float, x: np.ndarray, y: np.ndarray,
+                        water_depth: float = math.inf, g: float = 9.81, ramp: Ramp = Ramp()) -> np.ndarray:
+    """Elevation (m) at time ``t`` at the points (x, y) (any matching shapes)."""
+    k = wavenumber(waves.omega, water_depth, g)
+    h = waves.headings
+    kx, ky = k * np.cos(h), k * np.sin(h)
+    xs, ys = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    phase = np.multiply.outer(xs, kx) + np.multiply.outer(ys, ky)
+    values = np.exp(1j * (waves.omega * t - phase)) @ waves.complex_amplitude
+    return np.real(values) * ramp(float(t))
 
 
 def regular_wave(height: float, period: float, phase: float = 0.0, heading: float = 0.0) -> WaveComponents:
@@ -104,3 +192,14 @@ def wavenumber(omega: np.ndarray | float, water_depth: float = math.inf, g: floa
         if np.all(np.abs(dk) <= 1e-14 * np.abs(k)):
             break
     return k
+
+
+def group_velocity(omega: np.ndarray | float, water_depth: float = math.inf, g: float = 9.81) -> np.ndarray:
+    """Group velocity c_g = d omega / d k (m/s): g / (2 omega) in deep water,
+    (omega / k)(1/2 + k h / sinh(2 k h)) at depth h."""
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    k = wavenumber(w, water_depth, g)
+    if math.isinf(water_depth):
+        return g / (2 * w)
+    kh = k * water_depth
+    return (w / k) * (0.5 + kh / np.sinh(2 * kh))

@@ -2,7 +2,8 @@
 
 Each FMU carries its Python sources (the physics package and :mod:`fmu_base`), the scene
 specification (``scene_spec.json``) and, for the hydrodynamics FMU, the scene's database as a
-BEMIO file, so it runs in any FMI host whose Python has numpy, scipy and h5py. The FMU script
+BEMIO file plus the data its sea and options need (imported elevation or spectrum, hull meshes),
+so it runs in any FMI host whose Python has numpy, scipy and h5py. The FMU script
 modules have distinct names (``wec_hydro``, ``wec_mbd``): PythonFMU cannot load two FMUs whose
 scripts share a module name in one process.
 
@@ -69,8 +70,9 @@ def build_scene_fmus(scene: Scene, out_dir: Path | None = None, multibody: str =
     with tempfile.TemporaryDirectory(prefix="wec_data_") as tmp:
         db = Path(tmp) / DATABASE_FILE
         write_bemio(scene.hdb, db, code=scene.hdb.source)
+        data = scene.hydro_data_files(Path(tmp))
         return {
-            HYDRO: build_fmu(HYDRO, scene.hydro_spec(DATABASE_FILE), {DATABASE_FILE: db}, out),
+            HYDRO: build_fmu(HYDRO, scene.hydro_spec(DATABASE_FILE, data), {DATABASE_FILE: db, **data}, out),
             MBD: build_fmu(multibody, scene.mbd_spec(), {}, out),
         }
 

@@ -4,10 +4,11 @@ For each frequency omega the complex motion amplitudes X (per metre of wave ampl
 ``exp(+i omega t)`` convention) solve
 
     Z(omega) X = F_exc(omega),
-    Z = -omega^2 (M + A(omega)) + i omega (B(omega) + C_pto) + C_hs + K_pto,
+    Z = -omega^2 (M + A(omega)) + i omega (B(omega) + B_visc + C_pto) + C_hs + K_pto,
 
 with M the rigid-body mass matrix, A and B the database's added mass and radiation damping
-(linearly interpolated in omega), C_hs the hydrostatic stiffness and the PTOs' damping and
+(linearly interpolated in omega), B_visc the bodies' linear viscous damping (quadratic drag is not
+linear and is left out), C_hs the hydrostatic stiffness and the PTOs' damping and
 stiffness, all restricted to the scene's active degrees of freedom (the same coordinates as the
 time-domain multibody model). The mean power of a PTO of damping c on a coordinate with
 amplitude X is (1/2) omega^2 c |X|^2 per square metre of wave amplitude.
@@ -124,6 +125,9 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
     if not switches.radiation:  # memory force off: only A_inf remains (in the multibody mass matrix)
         A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
         B = np.zeros_like(B)
+    viscous = scene.viscous() if switches.viscous else None
+    if viscous is not None:  # the linear part of the viscous force (quadratic drag is not linear: left out)
+        B = B + np.diag(viscous.linear)[None]
     c_hs = block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)] if switches.hydrostatics else 0.0
     stiffness = system.stiffness.copy()
     stiffness[np.ix_(rows, rows)] += c_hs

@@ -26,11 +26,8 @@ import pickle
 
 import numpy as np
 
-from hydro_fmu.model import ForceSwitches, HydroModel
-
 from .errors import MasterError
 from .masters import FixedStepController, Master
-from .scenario import DOFS
 from .scene import HYDRO, MBD, Scene
 
 
@@ -44,11 +41,7 @@ class MonolithicMaster:
         s = scene.scenario
         self.scene = scene
         self.system = scene.multibody_system(added_mass=True)
-        dofs = [[DOFS.index(d) for d in sorted(b.dofs, key=DOFS.index)] for b in s.hydro_bodies]
-        h = s.simulation.step
-        switches = ForceSwitches(s.hydro.excitation, s.hydro.radiation, s.hydro.hydrostatics)
-        self.hydro = HydroModel(scene.hdb, scene.hydro_bodies, dofs, scene.waves(), scene.ramp(), h,
-                                s.hydro.irf_duration, switches)
+        self.hydro = scene.hydro_model(dt=s.simulation.step)  # every hydro option, as the hydro FMU
         self.rows = np.array([self.system.coordinate_index(b, d) for b, d in scene.hydro_coordinates])
         self.n = self.system.n
         self.tolerance = tolerance

@@ -21,6 +21,18 @@ DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
 
 
+def _at_least_one(value: float) -> str | None:
+    return None if value >= 1 else "must be at least 1"
+
+
+def _fraction(value: float) -> str | None:
+    return None if 0 < value < 1 else "must be between 0 and 1"
+
+
+def _six(value: list[float] | None) -> str | None:
+    return None if value is None or len(value) == 6 else "needs 6 values (surge, sway, heave, roll, pitch, yaw)"
+
+
 def _order(value: int) -> str | None:
     return None if value in (0, 1, 2) else "must be 0, 1 or 2"
 
@@ -116,14 +128,46 @@ class EnvironmentSection:
 class WavesSection:
     """Incident waves."""
 
-    kind: str = option("regular", choices=("regular", "still"), doc="`regular` wave or `still` water")
+    kind: str = option("regular", choices=("regular", "still", "irregular", "elevation"),
+                       doc="`regular` wave, `still` water, `irregular` sea from a spectrum, or an imported "
+                           "`elevation` record")
     height: float = option(0.0, unit="m", check=non_negative, doc="regular wave height, crest to trough")
     period: float = option(0.0, unit="s", check=non_negative, doc="regular wave period")
     phase_deg: float = option(0.0, unit="deg", doc="phase of the elevation at the world origin")
-    heading_deg: float = option(0.0, unit="deg", doc="direction of propagation, 0 = towards +x")
+    heading_deg: float = option(0.0, unit="deg", doc="direction of propagation, 0 = towards +x (main direction "
+                                                     "of a spread sea)")
     ramp_time: float | None = option(
         None, unit="s", check=non_negative,
-        doc="duration of the half-cosine start-up ramp; default three wave periods")
+        doc="duration of the half-cosine start-up ramp; default three wave periods (regular), three peak "
+            "periods (irregular), none (elevation record)")
+    spectrum: str = option("jonswap", choices=("jonswap", "pierson_moskowitz", "bretschneider", "file"),
+                           doc="irregular sea spectrum; `pierson_moskowitz` without `tp` is the fully developed "
+                               "sea of height `hs`; `file` reads `spectrum_file`")
+    hs: float = option(0.0, unit="m", check=non_negative, doc="significant wave height (irregular)")
+    tp: float = option(0.0, unit="s", check=non_negative, doc="peak period (irregular)")
+    gamma: float = option(3.3, check=_at_least_one, doc="JONSWAP peak enhancement factor")
+    spectrum_file: str = option("", doc="CSV spectrum with a header `omega,S` (rad/s, m^2 s/rad) or `f,S` "
+                                        "(Hz, m^2/Hz), relative to the scenario file")
+    discretisation: str = option("equal_frequency", choices=("equal_frequency", "equal_energy"),
+                                 doc="how the spectrum is split into components")
+    repeat_period: float = option(
+        0.0, unit="s", check=non_negative,
+        doc="equal frequency: the sea repeats after this time (frequency step 2 pi / repeat_period); "
+            "default the simulated duration")
+    n_components: int = option(200, check=positive, doc="equal energy: number of components")
+    omega_min: float = option(0.0, unit="rad/s", check=non_negative,
+                              doc="lowest component frequency; default 0.5 omega_p (file: the table's)")
+    omega_max: float = option(
+        0.0, unit="rad/s", check=non_negative,
+        doc="highest component frequency; default 6 omega_p (file: the table's; elevation record: no cut)")
+    seed: int = option(1, check=non_negative, doc="seed of the random phases (same seed, same sea)")
+    spreading_s: float = option(0.0, check=non_negative,
+                                doc="cos-2s directional spreading exponent; 0 = unidirectional")
+    n_directions: int = option(1, check=positive, doc="number of directions of a spread sea")
+    elevation_file: str = option("", doc="elevation record at the world origin: CSV with a header `t,eta` or "
+                                         "HDF5 with datasets `t`, `eta`, relative to the scenario file")
+    time_dataset: str = option("t", doc="HDF5 elevation file: dataset of the times")
+    elevation_dataset: str = option("eta", doc="HDF5 elevation file: dataset of the elevation")
 
 
 @dataclass
@@ -148,9 +192,35 @@ class HydroSection:
     headings_deg: list[float] = option(factory=lambda: [0.0], unit="deg", doc="BEM wave headings")
     bem_method: str = option("indirect", choices=("indirect", "direct"), doc="Capytaine formulation")
     irf_duration: float = option(60.0, unit="s", check=positive, doc="length of the radiation impulse response")
+    irf_d_omega: float = option(
+        0.0, unit="rad/s", check=non_negative,
+        doc="frequency step of the impulse-response transform (B resampled by shape-preserving cubic "
+            "interpolation); 0 = the database's grid")
+    radiation_method: str = option("convolution", choices=("convolution", "state_space"),
+                                   doc="radiation memory: direct convolution or fitted state space")
+    state_space_tolerance: float = option(
+        0.02, check=_fraction,
+        doc="state space: largest scaled error of the fitted impulse response; the lowest order that meets "
+            "it is used")
+    state_space_max_order: int = option(60, check=positive, doc="state space: highest order tried")
+    excitation_method: str = option(
+        "superposition", choices=("superposition", "convolution"),
+        doc="wave excitation: frequency-domain superposition of the components, or convolution of the "
+            "excitation impulse response with the elevation (non-causal, unidirectional seas)")
+    excitation_irf_duration: float = option(30.0, unit="s", check=positive,
+                                            doc="half-length of the excitation impulse response")
     excitation: bool = option(True, doc="compute the wave excitation force")
     radiation: bool = option(True, doc="compute the radiation memory force")
-    hydrostatics: bool = option(True, doc="compute the linear hydrostatic force")
+    hydrostatics: bool = option(True, doc="compute the hydrostatic force")
+    viscous: bool = option(True, doc="compute the bodies' linear damping and quadratic drag")
+    nonlinear_hydrostatics: bool = option(
+        False, doc="hydrostatic force by pressure integration over the instantaneous wetted hull (large motions)")
+    nonlinear_froude_krylov: bool = option(
+        False, doc="Froude-Krylov force over the instantaneous wetted hull under the incident wave (the "
+                   "database's diffraction part stays linear)")
+    check_tolerance: float = option(
+        0.05, check=positive,
+        doc="database checks: largest relative asymmetry of A and B, and negative eigenvalue of the scaled B")
 
 
 @dataclass
@@ -167,6 +237,9 @@ class GeometrySection:
         (0.0, 0.0, 0.0), unit="m",
         doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
             "mesh: the file's origin)")
+    rotation_deg: tuple[float, float, float] = option(
+        (0.0, 0.0, 0.0), unit="deg",
+        doc="rotation of the shape about its origin: about the fixed x, then y, then z axis")
     panel_size: float = option(0.5, unit="m", check=positive, doc="target panel size of primitive meshes")
     lid: bool = option(True, doc="lid on the waterplane against irregular frequencies (surface-piercing bodies)")
 
@@ -185,6 +258,13 @@ class BodySection:
     dofs: list[str] = option(factory=lambda: list(DOFS), choices=DOFS, doc="active degrees of freedom")
     hydro: bool = option(True, doc="the body has hydrodynamic forces")
     geometry: GeometrySection | None = field(default=None, metadata={"doc": "shape for the BEM solver"})
+    linear_damping: list[float] | None = option(
+        None, unit="N s/m, N m s/rad", check=_six, doc="viscous linear damping per degree of freedom (6 values)")
+    drag_coefficient: list[float] | None = option(
+        None, check=_six, doc="quadratic drag coefficient Cd per degree of freedom (6 values): F = -rho Cd A |v| v / 2")
+    drag_area: list[float] | None = option(
+        None, unit="m^2, m^5", check=_six,
+        doc="drag area per degree of freedom (6 values; for rotations area times lever arm cubed)")
     initial_displacement: list[float] = option(
         factory=lambda: [0.0] * 6, unit="m, rad", doc="initial displacement from equilibrium (6 values)")
     initial_velocity: list[float] = option(
@@ -313,7 +393,11 @@ class Scenario:
         w = self.waves
         if w.ramp_time is not None:
             return w.ramp_time
-        return 3.0 * w.period if w.kind == "regular" else 0.0
+        if w.kind == "regular":
+            return 3.0 * w.period
+        if w.kind == "irregular" and w.spectrum != "file":
+            return 3.0 * (w.tp if w.tp > 0 else 2 * math.pi / (0.4 * math.sqrt(self.environment.g / max(w.hs, 1e-9))))
+        return 0.0
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -376,9 +460,8 @@ def _check(s: Scenario) -> None:
             raise ScenarioError(f"{where}: body {p.body!r} is not defined (bodies: {', '.join(names)})")
         if p.dof not in names[p.body].dofs:
             raise ScenarioError(f"{where}: dof {p.dof!r} is not active on body {p.body!r}")
-    w = s.waves
-    if w.kind == "regular" and not (w.period > 0 and w.height > 0):
-        raise ScenarioError(f"{f}: [waves] kind = 'regular' needs a positive height and period")
+    _check_waves(s)
+    _check_hydro(s)
     if s.hydro.database and not s.resolve(s.hydro.database).is_file():
         raise ScenarioError(f"{f}: hydro.database: file {s.resolve(s.hydro.database)} does not exist")
     g = s.hydro.omega
@@ -445,6 +528,62 @@ def _check_control(s: Scenario) -> None:
             "master (not 'monolithic'), fixed steps (no [simulation.adaptive]) and added_mass = 'mass_matrix'")
     if c.zenoh_config and not s.resolve(c.zenoh_config).is_file():
         raise ScenarioError(f"{f}: control.zenoh_config: file {s.resolve(c.zenoh_config)} does not exist")
+
+
+def _check_waves(s: Scenario) -> None:
+    f, w = str(s.file), s.waves
+    if w.kind == "regular" and not (w.period > 0 and w.height > 0):
+        raise ScenarioError(f"{f}: [waves] kind = 'regular' needs a positive height and period")
+    if w.kind == "irregular":
+        if w.spectrum == "file":
+            if not w.spectrum_file:
+                raise ScenarioError(f"{f}: [waves] spectrum = 'file' needs spectrum_file")
+            if not s.resolve(w.spectrum_file).is_file():
+                raise ScenarioError(f"{f}: waves.spectrum_file: file {s.resolve(w.spectrum_file)} does not exist")
+        else:
+            if not w.hs > 0:
+                raise ScenarioError(f"{f}: [waves] kind = 'irregular' needs a positive hs")
+            if not w.tp > 0 and w.spectrum != "pierson_moskowitz":
+                raise ScenarioError(f"{f}: [waves] spectrum = {w.spectrum!r} needs a positive tp")
+        if w.omega_max and w.omega_max <= w.omega_min:
+            raise ScenarioError(f"{f}: waves.omega_max must be larger than waves.omega_min")
+    if w.kind == "elevation":
+        if not w.elevation_file:
+            raise ScenarioError(f"{f}: [waves] kind = 'elevation' needs elevation_file")
+        path = s.resolve(w.elevation_file)
+        if not path.is_file():
+            raise ScenarioError(f"{f}: waves.elevation_file: file {path} does not exist")
+        if path.suffix.lower() not in (".csv", ".txt", ".h5", ".hdf5"):
+            raise ScenarioError(f"{f}: waves.elevation_file: {path.name} is neither CSV (.csv, .txt) nor HDF5 "
+                                "(.h5, .hdf5)")
+    if w.spreading_s > 0 and w.kind != "irregular":
+        raise ScenarioError(f"{f}: waves.spreading_s applies to irregular seas only")
+    if w.spreading_s > 0 and s.hydro.excitation_method == "convolution":
+        raise ScenarioError(f"{f}: hydro.excitation_method = 'convolution' needs a unidirectional sea "
+                            "(waves.spreading_s = 0): the elevation at one point does not determine a spread sea")
+
+
+def _check_hydro(s: Scenario) -> None:
+    f, h = str(s.file), s.hydro
+    if (h.nonlinear_hydrostatics or h.nonlinear_froude_krylov):
+        for b in s.hydro_bodies:
+            if b.geometry is None:
+                raise ScenarioError(
+                    f"{f}: bodies[{s.bodies.index(b)}] ({b.name}): the nonlinear hydrostatic/Froude-Krylov force "
+                    "integrates pressure over the hull: give a [bodies.geometry] table")
+    if h.nonlinear_froude_krylov and h.excitation_method == "convolution":
+        raise ScenarioError(f"{f}: hydro.nonlinear_froude_krylov needs hydro.excitation_method = 'superposition'")
+    for i, b in enumerate(s.bodies):
+        drag = (b.drag_coefficient, b.drag_area)
+        if (drag[0] is None) != (drag[1] is None):
+            raise ScenarioError(f"{f}: bodies[{i}] ({b.name}): drag_coefficient and drag_area go together")
+        if any(v is not None for v in (b.linear_damping, *drag)) and not b.hydro:
+            raise ScenarioError(f"{f}: bodies[{i}] ({b.name}): viscous forces belong to the hydro FMU; the body has "
+                                "hydro = false")
+        for key in ("linear_damping", "drag_coefficient", "drag_area"):
+            values = getattr(b, key)
+            if values is not None and any(v < 0 for v in values):
+                raise ScenarioError(f"{f}: bodies[{i}] ({b.name}): {key} must not be negative")
 
 
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:

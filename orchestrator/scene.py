@@ -14,10 +14,14 @@ from pathlib import Path
 
 import numpy as np
 
-from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cached_database, frequency_grid
+from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_database, frequency_grid
 from hydro_fmu.bemio import read_bemio
+from hydro_fmu.drag import ViscousCoefficients
 from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
-from hydro_fmu.waves import Ramp, WaveComponents, regular_wave, still_water
+from hydro_fmu.meshes import SurfaceMesh, write_meshes
+from hydro_fmu.model import ForceSwitches, HydroOptions
+from hydro_fmu.sea import Sea, SeaSpec, build_sea
+from hydro_fmu.waves import Ramp, WaveComponents
 from mbd_fmu.bodies import RigidBody
 from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
@@ -27,6 +31,10 @@ from .scenario import DOFS, BodySection, Scenario
 
 HYDRO = "hydro"
 MBD = "mbd"
+# Names of the data files in the hydro FMU's resources (besides the database).
+ELEVATION_RESOURCE = "wave_elevation"
+SPECTRUM_RESOURCE = "wave_spectrum.csv"
+MESH_RESOURCE = "hull_meshes.json"
 
 
 @dataclass(frozen=True)
@@ -47,7 +55,7 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid)
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg))
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -68,10 +76,23 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tu
     else:
         bodies, settings = bem_inputs(scenario)
         cache = scenario.resolve(scenario.hydro.cache_dir)
-        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh)
+        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh,
+                                              log=(lambda m: log(f"warning: {m}")) if log is not None else None)
         if log is not None:
             log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
-    return _match_bodies(scenario, hdb), path
+    sub = _match_bodies(scenario, hdb)
+    _check_coefficients(scenario, sub)
+    return sub, path
+
+
+def _check_coefficients(scenario: Scenario, hdb: HydroDatabase) -> None:
+    """Symmetry and positive damping on the degrees of freedom the scene uses (HydroDatabaseError)."""
+    index = [6 * i + DOFS.index(d) for i, b in enumerate(scenario.hydro_bodies) for d in _sorted_dofs(b)]
+    problems = hdb.check_physics(np.array(index), scenario.hydro.check_tolerance)
+    if problems:
+        raise HydroDatabaseError(
+            "; ".join(problems) + f" (tolerance hydro.check_tolerance = {scenario.hydro.check_tolerance:g} "
+            f"in {scenario.file}; raise it only if you trust the data)")
 
 
 def _match_bodies(scenario: Scenario, hdb: HydroDatabase) -> HydroDatabase:
@@ -110,12 +131,14 @@ class Scene:
         self.hydro_bodies = [b.name for b in scenario.hydro_bodies]
         self.hydro_coordinates = [(b.name, DOFS.index(d)) for b in scenario.hydro_bodies
                                   for d in _sorted_dofs(b)]
-        heading = math.radians(scenario.waves.heading_deg)
         if scenario.waves.kind != "still":
             try:
-                hdb.heading_index(heading)
+                headings = np.unique(self.waves().headings) if scenario.waves.spreading_s > 0 else [
+                    math.radians(scenario.waves.heading_deg)]
+                for heading in headings:  # every component's heading must be within the database's
+                    hdb.excitation_at(hdb.omega[:1], float(heading))
             except HydroDatabaseError as exc:
-                raise ScenarioError(f"{scenario.file}: waves.heading_deg: {exc}") from None
+                raise ScenarioError(f"{scenario.file}: waves: {exc}") from None
 
     # ------------------------------------------------------------------ physics objects
     def body_mass(self, b: BodySection) -> float:
@@ -142,14 +165,82 @@ class Scene:
     def ptos(self) -> list[LinearPTO]:
         return [LinearPTO(p.name, p.body, DOFS.index(p.dof), p.stiffness, p.damping) for p in self.scenario.ptos]
 
+    def sea_spec(self, files: dict[str, str] | None = None) -> SeaSpec:
+        """The sea as :class:`SeaSpec`; data files by absolute path, or renamed by ``files``."""
+        s = self.scenario
+        w = s.waves
+        spectrum_file = str(s.resolve(w.spectrum_file)) if w.spectrum_file else ""
+        elevation_file = str(s.resolve(w.elevation_file)) if w.elevation_file else ""
+        if files is not None:
+            spectrum_file = files.get("spectrum", spectrum_file)
+            elevation_file = files.get("elevation", elevation_file)
+        return SeaSpec(
+            kind=w.kind, height=w.height, period=w.period, phase=math.radians(w.phase_deg),
+            heading=math.radians(w.heading_deg), ramp_time=s.ramp_time, spectrum=w.spectrum, hs=w.hs, tp=w.tp,
+            gamma=w.gamma, spectrum_file=spectrum_file if w.spectrum == "file" else "",
+            discretisation=w.discretisation,
+            repeat_period=w.repeat_period if w.repeat_period > 0 else s.simulation.duration,
+            n_components=w.n_components, omega_min=w.omega_min, omega_max=w.omega_max, seed=w.seed,
+            spreading_s=w.spreading_s, n_directions=w.n_directions if w.spreading_s > 0 else 1,
+            elevation_file=elevation_file if w.kind == "elevation" else "", time_dataset=w.time_dataset,
+            elevation_dataset=w.elevation_dataset, g=s.environment.g)
+
+    def sea(self) -> Sea:
+        if not hasattr(self, "_sea"):
+            self._sea = build_sea(self.sea_spec())
+        return self._sea
+
     def waves(self) -> WaveComponents:
-        w = self.scenario.waves
-        if w.kind == "still":
-            return still_water()
-        return regular_wave(w.height, w.period, math.radians(w.phase_deg), math.radians(w.heading_deg))
+        return self.sea().components
 
     def ramp(self) -> Ramp:
         return Ramp(self.scenario.ramp_time)
+
+    def switches(self) -> ForceSwitches:
+        h = self.scenario.hydro
+        return ForceSwitches(excitation=h.excitation, radiation=h.radiation, hydrostatics=h.hydrostatics,
+                             viscous=h.viscous)
+
+    def viscous(self) -> ViscousCoefficients | None:
+        """Linear damping and rho Cd A / 2 on the hydro coordinates (None if no body has any)."""
+        linear, quadratic = [], []
+        for b in self.scenario.hydro_bodies:
+            for d in _sorted_dofs(b):
+                j = DOFS.index(d)
+                linear.append(b.linear_damping[j] if b.linear_damping else 0.0)
+                cd = b.drag_coefficient[j] if b.drag_coefficient else 0.0
+                area = b.drag_area[j] if b.drag_area else 0.0
+                quadratic.append(0.5 * self.scenario.environment.rho * cd * area)
+        coefficients = ViscousCoefficients(np.array(linear), np.array(quadratic))
+        return coefficients if coefficients.active else None
+
+    def hull_meshes(self) -> dict[str, SurfaceMesh]:
+        """Whole hull of each hydrodynamic body relative to its centre of gravity (nonlinear options)."""
+        h = self.scenario.hydro
+        if not (h.nonlinear_hydrostatics or h.nonlinear_froude_krylov):
+            return {}
+        bodies, _ = bem_inputs(self.scenario)
+        return {b.name: body_mesh(b.geometry).translated(-np.asarray(b.cg)) for b in bodies}
+
+    def hydro_options(self) -> HydroOptions:
+        h = self.scenario.hydro
+        return HydroOptions(
+            radiation_method=h.radiation_method, irf_d_omega=h.irf_d_omega,
+            state_space_tolerance=h.state_space_tolerance, state_space_max_order=h.state_space_max_order,
+            excitation_method=h.excitation_method, excitation_irf_duration=h.excitation_irf_duration,
+            nonlinear_hydrostatics=h.nonlinear_hydrostatics, nonlinear_froude_krylov=h.nonlinear_froude_krylov,
+            meshes=self.hull_meshes(), viscous=self.viscous())
+
+    def hydro_model(self, dt: float | None = None):
+        """The scene's :class:`hydro_fmu.model.HydroModel` in-process (what the hydro FMU computes)."""
+        from hydro_fmu.model import HydroModel
+
+        s = self.scenario
+        sea = self.sea()
+        dofs = [[DOFS.index(d) for d in _sorted_dofs(b)] for b in s.hydro_bodies]
+        return HydroModel(self.hdb, self.hydro_bodies, dofs, sea.components, sea.ramp, dt or s.simulation.step,
+                          s.hydro.irf_duration, self.switches(), self.hydro_options(),
+                          record=sea.record)
 
     def hydro_index(self) -> np.ndarray:
         """Index of each hydro coordinate in the database's 6N numbering."""
@@ -166,19 +257,46 @@ class Scene:
         return system
 
     # ------------------------------------------------------------------ FMU specifications
-    def hydro_spec(self, database_name: str) -> dict:
+    def hydro_data_files(self, folder: Path) -> dict[str, Path]:
+        """Data files the hydro FMU needs besides its database, written to or found from ``folder``:
+        resource name -> file (imported wave data, hull meshes for the nonlinear options)."""
         s = self.scenario
         w = s.waves
+        files: dict[str, Path] = {}
+        if w.kind == "elevation":
+            path = s.resolve(w.elevation_file)
+            files[ELEVATION_RESOURCE + path.suffix.lower()] = path
+        if w.kind == "irregular" and w.spectrum == "file":
+            files[SPECTRUM_RESOURCE] = s.resolve(w.spectrum_file)
+        meshes = self.hull_meshes()
+        if meshes:
+            target = Path(folder) / MESH_RESOURCE
+            write_meshes(meshes, target)
+            files[MESH_RESOURCE] = target
+        return files
+
+    def hydro_spec(self, database_name: str, data_files: dict[str, Path] | None = None) -> dict:
+        s = self.scenario
+        h = s.hydro
+        names = list(data_files or {})
+        renamed = {"elevation": next((n for n in names if n.startswith(ELEVATION_RESOURCE)), ""),
+                   "spectrum": SPECTRUM_RESOURCE if SPECTRUM_RESOURCE in names else ""}
+        viscous = self.viscous()
         return {
             "kind": HYDRO,
             "database": database_name,
             "bodies": [{"name": b.name, "dofs": [DOFS.index(d) for d in _sorted_dofs(b)]} for b in s.hydro_bodies],
-            "waves": {"kind": w.kind, "height": w.height, "period": w.period,
-                      "phase": math.radians(w.phase_deg), "heading": math.radians(w.heading_deg),
-                      "ramp_time": s.ramp_time},
-            "radiation": {"dt": s.simulation.step, "irf_duration": s.hydro.irf_duration},
-            "switches": {"excitation": s.hydro.excitation, "radiation": s.hydro.radiation,
-                         "hydrostatics": s.hydro.hydrostatics},
+            "waves": self.sea_spec({k: v for k, v in renamed.items() if v}).to_json(),
+            "radiation": {"dt": s.simulation.step, "irf_duration": h.irf_duration, "method": h.radiation_method,
+                          "irf_d_omega": h.irf_d_omega, "state_space_tolerance": h.state_space_tolerance,
+                          "state_space_max_order": h.state_space_max_order},
+            "excitation": {"method": h.excitation_method, "irf_duration": h.excitation_irf_duration},
+            "nonlinear": {"hydrostatics": h.nonlinear_hydrostatics, "froude_krylov": h.nonlinear_froude_krylov,
+                          "meshes": MESH_RESOURCE if MESH_RESOURCE in names else ""},
+            "viscous": None if viscous is None else {"linear": viscous.linear.tolist(),
+                                                     "quadratic": viscous.quadratic.tolist()},
+            "switches": {"excitation": h.excitation, "radiation": h.radiation, "hydrostatics": h.hydrostatics,
+                         "viscous": h.viscous},
         }
 
     def mbd_spec(self) -> dict:

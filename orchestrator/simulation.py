@@ -111,6 +111,7 @@ class RunResult:
     steps: int
     comparisons: list[Comparison] = field(default_factory=list)
     statistics: dict = field(default_factory=dict)
+    radiation: dict = field(default_factory=dict)
 
     @property
     def real_time_factor(self) -> float:
@@ -134,6 +135,7 @@ class RunPlan:
     parameter_links: list
     settings: dict
     control: ControlLoop | None = None
+    radiation: dict = field(default_factory=dict)
 
     @property
     def series(self) -> dict[str, tuple[int, ...]]:
@@ -214,6 +216,7 @@ def run_scenario(
         if plan.control:
             plan.control.start()
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
     except BaseException:
         plan.master.terminate()
         extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
@@ -255,6 +258,7 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     writer.path = results
     try:
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
         plan.master.restore(saved["checkpoint"])
         plan.controller.set_state(saved["controller"])
     except BaseException:
@@ -310,7 +314,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     wall = time.perf_counter() - start
     attrs = _final_attrs(plan, "finished")
     writer.close(status="completed", wall_time=wall, attrs=attrs)
-    result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"])
+    result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
+                       radiation=plan.radiation)
     if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
         result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
     return result
@@ -319,10 +324,26 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
 def _final_attrs(plan: RunPlan, state: str) -> dict:
     """Attributes written when a run ends: run statistics, and the control statistics (which also
     tells the external controller that the run is over)."""
-    out = {"statistics": _run_statistics(plan)}
+    out = {"statistics": _run_statistics(plan), "radiation_model": plan.radiation}
     if plan.control:
         out["control_statistics"] = plan.control.close(state)
     return out
+
+
+def radiation_report(plan: RunPlan) -> dict:
+    """The radiation model's report (method, state-space order and errors): from the hydro FMU, or
+    from the in-process model of the monolithic mode."""
+    method = plan.scene.scenario.hydro.radiation_method
+    hydro = getattr(plan.master, "hydro", None)
+    if hydro is not None:  # monolithic: the physics object itself
+        r = hydro.report
+        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error}
+    comp = plan.master.components.get(HYDRO) if hasattr(plan.master, "components") else None
+    names = ["radiation.order", "radiation.fit_error", "radiation.frequency_error"]
+    if comp is None or any(n not in comp.variables for n in names):
+        return {}
+    order, fit_error, frequency_error = (float(v) for v in comp.get_reals(comp.port(names)))
+    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error}
 
 
 def _run_statistics(plan: RunPlan) -> dict:
@@ -399,6 +420,13 @@ def format_summary(result: RunResult) -> str:
     if st.get("smallest_step") is not None and st["smallest_step"] != st["largest_step"]:
         lines.append(f"adaptive step: {st['smallest_step']:g} .. {st['largest_step']:g} s, "
                      f"mean {st['mean_step']:.4g} s")
+    r = result.radiation
+    if r.get("method") == "state_space":
+        lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
+                     f"A and B against the database {r['frequency_error']:.3g}")
+    elif r:
+        lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
+                     f"{r['frequency_error']:.3g}")
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")

@@ -126,3 +126,59 @@ def test_interpolation_holds_limits() -> None:
     np.testing.assert_allclose(A[0], hdb.added_mass[2])
     np.testing.assert_allclose(A[1], hdb.added_mass_inf)  # above the grid: A_inf, B = 0, no excitation
     assert not B[1].any() and not X[1].any()
+
+
+def physical_database(n_bodies: int = 3, nw: int = 6, seed: int = 2) -> HydroDatabase:
+    """Symmetric A and positive semi-definite B (what a BEM code produces for a passive body)."""
+    hdb = synthetic_database(n_bodies=n_bodies, nw=nw, seed=seed)
+    rng = np.random.default_rng(seed)
+    n = 6 * n_bodies
+    m = rng.normal(size=(nw, n, n))
+    hdb.radiation_damping = m @ np.transpose(m, (0, 2, 1)) * 1e3
+    hdb.added_mass_inf = hdb.added_mass_inf + hdb.added_mass_inf.T
+    return hdb
+
+
+def test_three_body_round_trip(tmp_path) -> None:
+    hdb = physical_database(3)
+    back = read_bemio(write_bemio(hdb, tmp_path / "three.h5"))
+    np.testing.assert_allclose(back.radiation_damping, hdb.radiation_damping, rtol=1e-14)
+    np.testing.assert_allclose(back.added_mass[:, 6:12, 12:18], hdb.added_mass[:, 6:12, 12:18], rtol=1e-14)
+    with h5py.File(tmp_path / "three.h5") as f:
+        assert f["body3/hydro_coeffs/radiation_damping/all"].shape == (6, 18, 6)
+        assert f["body3/properties/dof_start"][()] == 13
+
+
+def test_physics_checks_name_quantity_body_and_frequency() -> None:
+    hdb = physical_database(2)
+    assert hdb.check_physics() == []
+    hdb.added_mass[3, 2, 8] *= 1.5  # body b0 heave row, body b1 heave column, 4th frequency
+    problems = hdb.check_physics()
+    assert len(problems) == 1
+    assert "added_mass is not symmetric" in problems[0]
+    assert "body 'b0' heave" in problems[0] and "body 'b1' heave" in problems[0]
+    assert f"omega = {hdb.omega[3]:g} rad/s" in problems[0]
+    hdb = physical_database(2)
+    hdb.radiation_damping[1, 10, 10] = -abs(hdb.radiation_damping[1]).max()  # b1 pitch: negative damping
+    problems = hdb.check_physics()
+    assert any("radiation_damping is not positive semi-definite" in p and "body 'b1' pitch" in p for p in problems)
+    # Only the degrees of freedom a scene uses are checked.
+    assert hdb.check_physics(dofs=np.array([0, 1, 2, 6, 7, 8])) == []
+
+
+def test_scene_refuses_a_database_that_creates_energy(tmp_path) -> None:
+    from orchestrator.scenario import load_scenario
+    from orchestrator.scene import load_scene
+
+    from .conftest import SCENARIOS
+
+    hdb = read_bemio(SCENARIOS / "hydro_cache" / "float-24c657d2983c3078.h5")
+    hdb.radiation_damping[40, 2, 2] *= -1
+    write_bemio(hdb, tmp_path / "bad.h5")
+    text = (SCENARIOS / "cylinder_regular.toml").read_text().replace(
+        "[hydro]\n", '[hydro]\ndatabase = "bad.h5"\n')
+    (tmp_path / "scene.toml").write_text(text)
+    with pytest.raises(HydroDatabaseError) as info:
+        load_scene(load_scenario(tmp_path / "scene.toml"), log=None)
+    message = str(info.value)
+    assert "bad.h5" in message and "radiation_damping" in message and "body 'float' heave" in message

@@ -1,0 +1,45 @@
+"""Shared by the benchmark scripts: print a report and keep a copy under ``benchmarks/results/``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def write_report(lines: list[str], out: str | None) -> str:
+    """Print the report; also write it to ``out`` if given. Returns the text."""
+    report = "\n".join(lines)
+    print(report)
+    if out:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
+        Path(out).write_text(report + "\n")
+    return report
+
+
+def physics_loop(hydro, system, h: float, steps: int, record: bool = False):
+    """The scene's hydro model and multibody model stepped together without a master: the force at
+    each point held over the step as the master's step-averaged quadratic extrapolation.
+
+    Returns ``(positions (steps, n) or None, seconds)``.
+    """
+    import time
+
+    import numpy as np
+
+    from orchestrator.masters import step_average_weights
+
+    weights = step_average_weights([0.0, -h, -2 * h], h)
+    history: list[np.ndarray] = []
+    out = []
+    start = time.perf_counter()
+    for k in range(steps):
+        t = k * h
+        force = hydro.forces(t, system.q, system.qd).total
+        history.insert(0, force)
+        del history[3:]
+        hold = sum(w * f for w, f in zip(weights, history, strict=False)) if len(history) == 3 else force
+        hydro.advance(t, h, system.qd.copy())
+        system.step(h, hold)
+        if record:
+            out.append(system.q.copy())
+    elapsed = time.perf_counter() - start
+    return (np.array(out) if record else None), elapsed
