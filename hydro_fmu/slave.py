@@ -39,6 +39,7 @@ from .drag import ViscousCoefficients
 from .meshes import read_meshes
 from .model import ForceSwitches, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
+from .state_space import DEFAULT_TOLERANCE
 
 DOF_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
@@ -181,7 +182,8 @@ class HydroSlave(VectorSlave):
         viscous = self.spec.get("viscous")
         options = HydroOptions(
             radiation_method=r.get("method", "convolution"), irf_d_omega=r.get("irf_d_omega", 0.0),
-            state_space_tolerance=p.get("radiation.state_space_tolerance", r.get("state_space_tolerance", 0.02)),
+            state_space_tolerance=p.get("radiation.state_space_tolerance",
+                                        r.get("state_space_tolerance", DEFAULT_TOLERANCE)),
             state_space_max_order=r.get("state_space_max_order", 60),
             excitation_method=e.get("method", "superposition"), excitation_irf_duration=e.get("irf_duration", 30.0),
             nonlinear_hydrostatics=nonlinear.get("hydrostatics", False),

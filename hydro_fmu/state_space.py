@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import expm
 
-DEFAULT_TOLERANCE = 0.02
+DEFAULT_TOLERANCE = 0.002
 DEFAULT_MAX_ORDER = 100
 
 

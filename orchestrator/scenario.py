@@ -199,7 +199,7 @@ class HydroSection:
     radiation_method: str = option("convolution", choices=("convolution", "state_space"),
                                    doc="radiation memory: direct convolution or fitted state space")
     state_space_tolerance: float = option(
-        0.02, check=_fraction,
+        0.002, check=_fraction,
         doc="state space: largest scaled error of the fitted impulse response; the lowest order that meets "
             "it is used")
     state_space_max_order: int = option(60, check=positive, doc="state space: highest order tried")
