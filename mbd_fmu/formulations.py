@@ -1,0 +1,350 @@
+"""Formulations of the constrained equations of motion and their time stepping.
+
+All three share :class:`Formulation`'s interface (``initialize``, ``set_inputs``, ``step``) and
+state (pose ``q``, slot velocities ``v``, accelerations ``v'`` and multipliers ``lambda`` of the
+kept constraint rows, time ``t``); the external input force is held constant during a step.
+
+* :class:`Index3` - the index-3 DAE ``M v' + C^T lambda = f``, ``Phi(q, t) = 0`` by the Lie
+  group generalised-alpha method (:mod:`mbd_fmu.integrators`): Newton iterations on
+  ``(v'_{n+1}, lambda_{n+1})`` with the constraint equations scaled by ``1/(h^2 beta zeta)``
+  (Bottasso, Bauchau & Cardona 2007), iteration matrix ``[[M + h gamma zeta D + h^2 beta zeta K,
+  C^T], [C, 0]]`` (``K``, ``D`` the force elements' tangents; modified Newton, refreshed when
+  the contraction rate exceeds 0.5), convergence judged on the position correction with the
+  contraction-rate estimate of Hairer & Wanner. Positions satisfy the constraints to the Newton
+  tolerance at every step (no drift). Order 2 in q and v.
+* :class:`Index1` - the acceleration-level (index-1) DAE solved for ``(v', lambda)`` from the
+  saddle-point system ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``, integrated by an explicit
+  RKMK method, followed by a projection of the positions (Newton, mass metric) and velocities
+  onto the constraint manifold after every step. Order of the RK method.
+* :class:`NullSpace` - the reduced ODE (Maggi / generalised coordinate partitioning,
+  Wehage & Haug 1982): the velocities split into ``n - r`` independent and ``r`` dependent
+  slots chosen by QR with column pivoting of ``C``; ``v = P v_s + sigma`` with
+  ``P = [-C_d^-1 C_s; I]``; the ODE ``P^T M P v_s' = P^T (f - M rho)`` (``rho``: the particular
+  solution of ``C v' = gamma`` with ``v_s' = 0``) is integrated by RKMK, the dependent positions
+  are recovered by Newton iterations on ``Phi = 0`` with the independent ones held. The
+  partition is re-chosen between steps when ``C_d`` degrades. Order of the RK method.
+
+Restart at macro-step boundaries (:meth:`Formulation.set_inputs`): a new held input makes the
+acceleration jump. The explicit one-step methods need nothing. Generalised-alpha carries the
+algorithmic acceleration ``a``, which approximates ``v'(t + Delta h)`` (``Delta = alpha_m -
+alpha_f``); on a jump it is reset from the new consistent acceleration and its derivative,
+``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` by a central difference
+of the consistent acceleration along the motion. This keeps second order when the input
+changes every step (``restart="consistent"``); ``"acceleration"`` (``a = v'``) and ``"none"``
+(keep ``a``) are available for comparison.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import lu_factor, lu_solve, qr
+
+from .integrators import TABLEAUS, GeneralizedAlphaCoefficients, rkmk_step
+from .kinematics import Pose
+from .model import MultibodyModel
+
+FORMULATIONS = ("index3", "index1", "nullspace")
+RESTARTS = ("consistent", "acceleration", "none")
+
+
+class ConvergenceError(RuntimeError):
+    """A Newton iteration did not converge (the message says where and how far)."""
+
+
+@dataclass
+class Settings:
+    """Formulation and integrator settings (see the module docstring)."""
+
+    formulation: str = "index3"
+    integrator: str = ""
+    spectral_radius: float = 0.8
+    newton_tolerance: float = 1e-10
+    max_iterations: int = 30
+    restart: str = "consistent"
+
+    def __post_init__(self) -> None:
+        if self.formulation not in FORMULATIONS:
+            raise ValueError(f"unknown formulation {self.formulation!r}; expected one of {', '.join(FORMULATIONS)}")
+        if not self.integrator:
+            self.integrator = "generalized_alpha" if self.formulation == "index3" else "rk4"
+        if self.formulation == "index3" and self.integrator != "generalized_alpha":
+            raise ValueError("the index-3 formulation is integrated by 'generalized_alpha'")
+        if self.formulation != "index3" and self.integrator not in TABLEAUS:
+            raise ValueError(f"integrator {self.integrator!r} is not one of {', '.join(TABLEAUS)} "
+                             f"(the explicit Runge-Kutta methods of the {self.formulation} formulation)")
+        if self.restart not in RESTARTS:
+            raise ValueError(f"restart must be one of {', '.join(RESTARTS)}")
+        GeneralizedAlphaCoefficients(self.spectral_radius)
+
+
+class Formulation:
+    """Shared state and the consistent (index-1) acceleration."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        self.model = model
+        self.settings = settings
+        self.inputs = np.zeros(model.n)
+        self.newton_iterations = 0
+        self.steps = 0
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
+        if inputs is not None:
+            self.inputs = np.array(inputs, float)
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
+        scale = np.max(np.abs(self.model.cg)) if self.model.N else 1.0
+        self.length = max(1.0, float(scale))
+
+    def set_inputs(self, inputs: np.ndarray) -> bool:
+        """Hold ``inputs`` from now on; returns True if they changed (a restart was made)."""
+        inputs = np.asarray(inputs, float)
+        if np.array_equal(inputs, self.inputs):
+            return False
+        self.inputs = inputs.copy()
+        self.on_restart()
+        return True
+
+    def on_restart(self) -> None:
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
+
+    def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Consistent ``v'`` and ``lambda`` (kept rows) from the saddle-point system."""
+        m = self.model
+        k = m.kin(pose, v, t)
+        mass = m.mass_matrix(pose)
+        f = m.forces(k, self.inputs)
+        ev = m.constraint(k)
+        r = ev.phi.size
+        if r == 0:
+            return np.linalg.solve(mass, f), np.zeros(0)
+        kkt = np.block([[mass, ev.jac.T], [ev.jac, np.zeros((r, r))]])
+        x = np.linalg.solve(kkt, np.concatenate([f, ev.gamma]))
+        return x[: m.n], x[m.n:]
+
+    def step(self, h: float) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _finish(self, h: float) -> None:
+        self.t += h
+        self.steps += 1
+        self.model.commit(self.model.kin(self.pose, self.v, self.t))
+
+
+class Index3(Formulation):
+    """Index-3 DAE, Lie group generalised-alpha (module docstring)."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        super().__init__(model, settings)
+        self.coef = GeneralizedAlphaCoefficients(settings.spectral_radius)
+        self.a: np.ndarray | None = None
+        self._lu = None
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        super().initialize(pose, v, t, inputs)
+        self.a = None
+
+    def on_restart(self) -> None:
+        if self.settings.restart == "none":
+            return
+        super().on_restart()
+        self.a = None
+
+    def _start_acceleration(self, h: float) -> np.ndarray:
+        delta = self.coef.alpha_m - self.coef.alpha_f
+        if self.settings.restart == "acceleration" or delta == 0.0:
+            return self.vdot.copy()
+        eps = 1e-5 * h
+        m = self.model
+        fwd = self.pose.retract(m.full(eps * self.v))
+        bwd = self.pose.retract(m.full(-eps * self.v))
+        ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
+        am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
+        return self.vdot + delta * h * (ap - am) / (2 * eps)
+
+    def step(self, h: float) -> None:
+        m, c = self.model, self.coef
+        if self.a is None:
+            self.a = self._start_acceleration(h)
+        am, af, g, b = c.alpha_m, c.alpha_f, c.gamma, c.beta
+        zeta = (1 - af) / (1 - am)
+        vd_n, a_n, v_n = self.vdot, self.a, self.v
+        t1 = self.t + h
+        vd, lam = vd_n.copy(), self.lam.copy()
+        tol = self.settings.newton_tolerance * self.length
+        n = m.n
+        previous = None
+        lu = None
+        for it in range(self.settings.max_iterations):
+            a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+            v1 = v_n + h * ((1 - g) * a_n + g * a1)
+            pose1 = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
+            k = m.kin(pose1, v1, t1)
+            mass = m.mass_matrix(pose1)
+            ev = m.constraint(k, gamma=False)
+            r1 = mass @ vd - m.forces(k, self.inputs) + ev.jac.T @ lam
+            r2 = ev.phi / (h * h * b * zeta)
+            if lu is None:
+                kt, dt = m.tangents(k)
+                s = mass + h * g * zeta * dt + h * h * b * zeta * kt
+                r = len(lam)
+                lu = lu_factor(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r, r))]]))
+            dx = lu_solve(lu, -np.concatenate([r1, r2]))
+            vd += dx[:n]
+            lam += dx[n:]
+            self.newton_iterations += 1
+            size = h * h * b * zeta * float(np.max(np.abs(dx[:n]))) if n else 0.0
+            if previous is not None and previous > 0:
+                theta = size / previous
+                if theta < 1 and size * theta / (1 - theta) <= tol:
+                    break
+                if theta > 0.5:
+                    lu = None
+            elif size <= 1e-3 * tol:
+                break
+            previous = size
+        else:
+            raise ConvergenceError(
+                f"generalised-alpha Newton iteration did not converge at t = {t1:g} s (last position correction "
+                f"{size:.3g} m or rad); reduce the step (multibody max_step) or check the model")
+        a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+        self.v = v_n + h * ((1 - g) * a_n + g * a1)
+        self.pose = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
+        self.vdot, self.a, self.lam = vd, a1, lam
+        self._finish(h)
+
+
+class Index1(Formulation):
+    """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
+
+    def step(self, h: float) -> None:
+        m = self.model
+        tab = TABLEAUS[self.settings.integrator]
+
+        def rates(pose: Pose, v: np.ndarray, t: float):
+            return v, self.acceleration(pose, v, t)[0]
+
+        pose, v, _ = rkmk_step(tab, self.pose, self.v, self.t, h, rates, m.full)
+        self.pose, self.v = self.project(pose, v, self.t + h)
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t + h)
+        self._finish(h)
+
+    def project(self, pose: Pose, v: np.ndarray, t: float) -> tuple[Pose, np.ndarray]:
+        """Nearest consistent position (mass metric, Newton) and velocity."""
+        m = self.model
+        w = m.mass_matrix(pose)
+        tol = 1e-3 * self.settings.newton_tolerance * self.length
+        for _ in range(self.settings.max_iterations):
+            ev = m.constraint(m.kin(pose, v, t), gamma=False)
+            if ev.phi.size == 0 or np.max(np.abs(ev.phi)) <= tol:
+                break
+            c = ev.jac
+            winv_ct = np.linalg.solve(w, c.T)
+            pose = pose.retract(m.full(-winv_ct @ np.linalg.solve(c @ winv_ct, ev.phi)))
+        else:
+            raise ConvergenceError(f"position projection did not converge at t = {t:g} s")
+        if ev.phi.size:
+            c = ev.jac
+            winv_ct = np.linalg.solve(w, c.T)
+            v = v - winv_ct @ np.linalg.solve(c @ winv_ct, c @ v - ev.rhs_v)
+        return pose, v
+
+
+class NullSpace(Formulation):
+    """Reduced ODE by null-space (Maggi) projection with coordinate partitioning (module docstring)."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        super().__init__(model, settings)
+        self.dep = self.ind = None
+        self.quality = 0.0
+        self.repartitions = 0
+
+    def _choose_partition(self, c: np.ndarray) -> None:
+        r = c.shape[0]
+        _, _, piv = qr(c, pivoting=True, mode="economic")
+        self.dep, self.ind = np.sort(piv[:r]), np.sort(piv[r:])
+        self.quality = self._pivot_ratio(c)
+        self.repartitions += 1
+
+    def _pivot_ratio(self, c: np.ndarray) -> float:
+        if not len(self.dep):
+            return 1.0
+        u = np.abs(np.diag(lu_factor(c[:, self.dep])[0]))
+        return float(u.min() / max(np.max(np.abs(c)), 1e-300))
+
+    def basis(self, c: np.ndarray) -> tuple[np.ndarray, object]:
+        """P (n, n - r) for the current partition and the LU factors of C_d."""
+        n = self.model.n
+        p = np.zeros((n, len(self.ind)))
+        p[self.ind, np.arange(len(self.ind))] = 1.0
+        if not len(self.dep):
+            return p, None
+        lu = lu_factor(c[:, self.dep])
+        p[self.dep] = -lu_solve(lu, c[:, self.ind])
+        return p, lu
+
+    def reduced_acceleration(self, pose: Pose, vs: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Full velocity, full acceleration and the independent accelerations at ``(pose, v_s)``."""
+        m = self.model
+        ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
+        p, lu = self.basis(ev.jac)
+        v = p @ vs
+        if lu is not None:
+            v[self.dep] += lu_solve(lu, ev.rhs_v)
+        k = m.kin(pose, v, t)
+        rho = np.zeros(m.n)
+        if lu is not None:
+            rho[self.dep] = lu_solve(lu, m.constraint(k).gamma)
+        mass = m.mass_matrix(pose)
+        f = m.forces(k, self.inputs)
+        vsd = np.linalg.solve(p.T @ mass @ p, p.T @ (f - mass @ rho))
+        return v, p @ vsd + rho, vsd
+
+    def step(self, h: float) -> None:
+        m = self.model
+        c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
+        if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):
+            self._choose_partition(c)
+        elif self.dep is None:
+            self.dep, self.ind = np.arange(0), np.arange(m.n)
+        tab = TABLEAUS[self.settings.integrator]
+
+        def rates(pose: Pose, vs: np.ndarray, t: float):
+            v, _, vsd = self.reduced_acceleration(pose, vs, t)
+            return v, vsd
+
+        pose, vs, _ = rkmk_step(tab, self.pose, self.v[self.ind], self.t, h, rates, m.full)
+        self.pose = self.correct_dependent(pose, self.t + h)
+        self.v, self.vdot, _ = self.reduced_acceleration(self.pose, vs, self.t + h)
+        self.lam = self.multipliers()
+        self._finish(h)
+
+    def correct_dependent(self, pose: Pose, t: float) -> Pose:
+        """Newton on the dependent positions with the independent ones held."""
+        m = self.model
+        if not len(self.dep):
+            return pose
+        tol = 1e-3 * self.settings.newton_tolerance * self.length
+        for _ in range(self.settings.max_iterations):
+            ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
+            if np.max(np.abs(ev.phi)) <= tol:
+                return pose
+            delta = np.zeros(m.n)
+            delta[self.dep] = -np.linalg.solve(ev.jac[:, self.dep], ev.phi)
+            pose = pose.retract(m.full(delta))
+        raise ConvergenceError(f"dependent coordinates did not converge at t = {t:g} s")
+
+    def multipliers(self) -> np.ndarray:
+        """lambda from the dependent rows of C^T lambda = f - M v' (reactions)."""
+        m = self.model
+        k = m.kin(self.pose, self.v, self.t)
+        ev = m.constraint(k, gamma=False)
+        if not ev.phi.size:
+            return np.zeros(0)
+        res = m.forces(k, self.inputs) - m.mass_matrix(self.pose) @ self.vdot
+        return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
+
+
+def make_formulation(model: MultibodyModel, settings: Settings) -> Formulation:
+    return {"index3": Index3, "index1": Index1, "nullspace": NullSpace}[settings.formulation](model, settings)
