@@ -56,6 +56,17 @@ def row_labels(model: MultibodyModel) -> list[str]:
     return labels
 
 
+def independent_rows(c: np.ndarray, rank: int | None = None, tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray, int]:
+    """Best-conditioned independent rows of ``c`` (QR with column pivoting of the row-normalised
+    transpose): ``(kept, redundant, rank)``; ``rank`` may be imposed (the mechanism's generic rank)."""
+    scale = np.maximum(np.linalg.norm(c, axis=1), 1e-300)
+    _, rr, piv = qr((c / scale[:, None]).T, pivoting=True, mode="economic")
+    diag = np.abs(np.diag(rr))
+    if rank is None:
+        rank = int(np.sum(diag > tol * max(diag[0], 1e-300))) if len(diag) else 0
+    return np.sort(piv[:rank]), np.sort(piv[rank:]), rank
+
+
 def analyse(model: MultibodyModel, pose: Pose, t: float = 0.0, tol: float = 1e-9) -> MobilityReport:
     """Rank and redundancy of the constraints at ``pose``; sets ``model.kept`` to the independent rows."""
     k = model.kin(pose, np.zeros(model.n), t)
@@ -64,13 +75,11 @@ def analyse(model: MultibodyModel, pose: Pose, t: float = 0.0, tol: float = 1e-9
     if model.m == 0:
         model.kept = np.arange(0)
         return MobilityReport(model.n, 0, 0, model.kept)
-    scale = np.maximum(np.linalg.norm(c, axis=1), 1e-300)
-    _, rr, piv = qr((c / scale[:, None]).T, pivoting=True, mode="economic")
-    diag = np.abs(np.diag(rr))
-    rank = int(np.sum(diag > tol * max(diag[0], 1e-300))) if len(diag) else 0
-    kept = np.sort(piv[:rank])
+    kept, redundant_rows, rank = independent_rows(c, tol=tol)
+    piv = np.concatenate([kept, redundant_rows])
     labels = row_labels(model)
-    redundant = [labels[r] for r in np.sort(piv[rank:])]
+    redundant = [labels[r] for r in redundant_rows]
+    del piv
     model.kept = kept
     return MobilityReport(model.n, model.m, rank, kept, redundant)
 

@@ -92,6 +92,33 @@ class ConstraintSet:
             g.freeze()
 
     # ------------------------------------------------------------------ evaluation
+    def geometric_stiffness(self, k: Kin, lam: np.ndarray, out: np.ndarray) -> None:
+        """Add d(C^T lambda)/dq of the ``point`` and ``perp`` primitives (rotation blocks) into ``out``
+        (full slots); ``lam`` holds the multipliers of all rows (zeros for dropped ones)."""
+        g = self.groups["point"]
+        if len(g):
+            eye = np.eye(3)
+            for sign, b, v in ((1.0, g.BI, g.VI), (-1.0, g.BJ, g.VJ)):
+                a = np.einsum("kab,kb->ka", k.RR[b], v)
+                lk = lam[g.ROW]
+                blocks = sign * (a[:, :, None] * lk[:, None, :] - _dot(a, lk)[:, None, None] * eye)
+                for bi, blk in zip(b, blocks, strict=True):
+                    out[6 * bi + 3:6 * bi + 6, 6 * bi + 3:6 * bi + 6] += blk
+        g = self.groups["perp"]
+        if len(g):
+            u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
+            w = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+            lk = lam[g.ROW[:, 0]]
+            uw = _dot(u, w)[:, None, None] * np.eye(3)
+            ii = lk[:, None, None] * (u[:, :, None] * w[:, None, :] - uw)
+            ij = lk[:, None, None] * (uw - w[:, :, None] * u[:, None, :])
+            for bi, bj, a1, a2 in zip(g.BI, g.BJ, ii, ij, strict=True):
+                ri, rj = slice(6 * bi + 3, 6 * bi + 6), slice(6 * bj + 3, 6 * bj + 6)
+                out[ri, ri] += a1
+                out[ri, rj] += a2
+                out[rj, ri] -= a1
+                out[rj, rj] -= a2
+
     def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None) -> None:
         """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None)."""
         for g in self.active:

@@ -134,7 +134,10 @@ class Angle(Coordinate):
         return value, jac, quad
 
     def commit(self, k: Kin) -> None:
-        self.reference = self._raw(k)[0]
+        fi = k.RR[self.bi] @ self.axes_i[:, :2]
+        xj = k.RR[self.bj] @ self.x_j
+        raw = math.atan2(float(xj @ fi[:, 1]), float(xj @ fi[:, 0]))
+        self.reference = raw + 2 * math.pi * round((self.reference - raw) / (2 * math.pi))
 
 
 @dataclass

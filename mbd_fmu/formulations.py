@@ -41,12 +41,27 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import lu_factor, lu_solve, qr
 
+from .assembly import independent_rows
 from .integrators import TABLEAUS, GeneralizedAlphaCoefficients, rkmk_step
 from .kinematics import Pose
 from .model import MultibodyModel
 
 FORMULATIONS = ("index3", "index1", "nullspace")
 RESTARTS = ("consistent", "acceleration", "none")
+
+
+class Factorized:
+    """A square matrix ready for repeated solves: explicit inverse when small (cheapest per solve in
+    numpy), LU factors otherwise."""
+
+    SMALL = 48
+
+    def __init__(self, a: np.ndarray) -> None:
+        self.small = a.shape[0] <= self.SMALL
+        self.data = np.linalg.inv(a) if self.small else lu_factor(a, check_finite=False)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.data @ b if self.small else lu_solve(self.data, b, check_finite=False)
 
 
 class ConvergenceError(RuntimeError):
@@ -88,6 +103,7 @@ class Formulation:
         self.inputs = np.zeros(model.n)
         self.newton_iterations = 0
         self.steps = 0
+        self.row_changes = 0
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
@@ -125,6 +141,21 @@ class Formulation:
 
     def step(self, h: float) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def reselect_rows(self) -> None:
+        """With redundant constraints, re-choose the independent rows at the current pose (the best
+        set changes along the motion, e.g. in Bricard's linkage); multipliers are carried over."""
+        m = self.model
+        if len(m.kept) == m.m:
+            return
+        _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
+        c = jf[:, m.sel]
+        kept, _, _ = independent_rows(c, rank=len(m.kept))
+        if not np.array_equal(kept, m.kept):
+            force = c[m.kept].T @ self.lam
+            m.kept = kept
+            self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
+            self.row_changes += 1
 
     def _finish(self, h: float) -> None:
         self.t += h
@@ -164,6 +195,7 @@ class Index3(Formulation):
         return self.vdot + delta * h * (ap - am) / (2 * eps)
 
     def step(self, h: float) -> None:
+        self.reselect_rows()
         m, c = self.model, self.coef
         if self.a is None:
             self.a = self._start_acceleration(h)
@@ -174,9 +206,9 @@ class Index3(Formulation):
         vd, lam = vd_n.copy(), self.lam.copy()
         tol = self.settings.newton_tolerance * self.length
         n = m.n
-        previous = None
-        lu = None
-        for it in range(self.settings.max_iterations):
+        scale_c = 1.0 / (h * h * b * zeta)
+
+        def residual(vd: np.ndarray, lam: np.ndarray):
             a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
             v1 = v_n + h * ((1 - g) * a_n + g * a1)
             pose1 = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
@@ -184,25 +216,47 @@ class Index3(Formulation):
             mass = m.mass_matrix(pose1)
             ev = m.constraint(k, gamma=False)
             r1 = mass @ vd - m.forces(k, self.inputs) + ev.jac.T @ lam
-            r2 = ev.phi / (h * h * b * zeta)
+            return np.concatenate([r1, ev.phi * scale_c]), k, mass, ev
+
+        previous = None
+        lu = None
+        exact = False
+        size = np.inf
+        for it in range(self.settings.max_iterations):
+            r, k, mass, ev = residual(vd, lam)
             if lu is None:
-                kt, dt = m.tangents(k)
-                s = mass + h * g * zeta * dt + h * h * b * zeta * kt
-                r = len(lam)
-                lu = lu_factor(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r, r))]]))
-            dx = lu_solve(lu, -np.concatenate([r1, r2]))
-            vd += dx[:n]
-            lam += dx[n:]
+                r_ = len(lam)
+                if exact:  # finite-difference Jacobian of the full residual (stagnating modified Newton)
+                    jac = np.zeros((n + r_, n + r_))
+                    x0 = np.concatenate([vd, lam])
+                    for i in range(n):
+                        e = np.zeros(n)
+                        e[i] = 1e-7 * max(1.0, abs(vd[i]))
+                        jac[:, i] = (residual(vd + e, lam)[0] - r) / e[i]
+                    jac[:n, n:] = ev.jac.T
+                    jac[n:, n:] = 0.0
+                    lu = Factorized(jac)
+                    del x0
+                else:
+                    kt, dt = m.tangents(k)
+                    kt = kt + m.inertial_stiffness(k, vd) + m.geometric_stiffness(k, lam)
+                    dt = dt + m.gyroscopic_damping(k)
+                    s = mass + h * g * zeta * dt + h * h * b * zeta * kt
+                    lu = Factorized(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r_, r_))]]))
+            dx = lu.solve(-r)
+            vd = vd + dx[:n]
+            lam = lam + dx[n:]
             self.newton_iterations += 1
             size = h * h * b * zeta * float(np.max(np.abs(dx[:n]))) if n else 0.0
+            if size <= 1e-2 * tol:
+                break
             if previous is not None and previous > 0:
                 theta = size / previous
-                if theta < 1 and size * theta / (1 - theta) <= tol:
-                    break
+                if (theta < 1 and size * theta / (1 - theta) <= tol) or (theta > 0.5 and size <= 100 * tol):
+                    break  # converged, or stagnating at the round-off floor
                 if theta > 0.5:
+                    exact = exact or it >= 3
                     lu = None
-            elif size <= 1e-3 * tol:
-                break
             previous = size
         else:
             raise ConvergenceError(
@@ -219,6 +273,7 @@ class Index1(Formulation):
     """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
 
     def step(self, h: float) -> None:
+        self.reselect_rows()
         m = self.model
         tab = TABLEAUS[self.settings.integrator]
 
@@ -302,6 +357,10 @@ class NullSpace(Formulation):
         return v, p @ vsd + rho, vsd
 
     def step(self, h: float) -> None:
+        kept = self.model.kept
+        self.reselect_rows()
+        if self.model.kept is not kept:
+            self.dep = None
         m = self.model
         c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
         if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):

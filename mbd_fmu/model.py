@@ -30,7 +30,7 @@ from .constraints import ConstraintSet
 from .force_elements import ForceElement
 from .joints import CompiledJoint, Driver, Joint, Marker, compile_joint, joint_frame
 from .kinematics import Kin, Pose
-from .rotations import cross, exp_so3, log_so3
+from .rotations import cross, exp_so3, log_so3, skew
 
 # ZYX Cardan angle held at zero by "u . w = 0" between body vector u and world vector w
 _CARDAN_LOCK = {3: ((1, 2)), 4: ((0, 2)), 5: ((0, 1))}
@@ -201,23 +201,28 @@ class MultibodyModel:
     # ------------------------------------------------------------------ dynamics
     def mass_matrix(self, pose: Pose) -> np.ndarray:
         """(n, n) structural mass plus A_inf, in generalised slots."""
-        n = self.N
-        blocks = np.zeros((n, 6, 6))
+        if not hasattr(self, "_mass_index"):
+            body, local = self.sel // 6, self.sel % 6
+            rows, cols = np.nonzero(body[:, None] == body[None, :])
+            self._mass_index = (rows, cols, body[rows], local[rows], local[cols])
+            self._rotating = bool(np.any(self.inertia))
+        rows, cols, b, lr, lc = self._mass_index
+        blocks = np.zeros((self.N, 6, 6))
         blocks[:, 0, 0] = blocks[:, 1, 1] = blocks[:, 2, 2] = self.mass
-        blocks[:, 3:, 3:] = pose.R @ self.inertia @ np.transpose(pose.R, (0, 2, 1))
-        sel = self.sel
-        body, local = sel // 6, sel % 6
-        same = body[:, None] == body[None, :]
-        m = np.where(same, blocks[body[:, None].clip(max=n - 1), local[:, None], local[None, :]], 0.0)
-        return m + self.added
+        if self._rotating:
+            blocks[:, 3:, 3:] = pose.R @ self.inertia @ np.transpose(pose.R, (0, 2, 1))
+        m = self.added.copy()
+        m[rows, cols] += blocks[b, lr, lc]
+        return m
 
     def forces_full(self, k: Kin) -> np.ndarray:
         """Generalised force in full slots: gyroscopic, gravity, static loads, force elements."""
         f = np.zeros(6 * (self.N + 1))
         fb = f.reshape(self.N + 1, 6)
         w = k.W[: self.N, 3:]
-        iw = np.einsum("kab,kb->ka", k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1)), w)
-        fb[: self.N, 3:] -= cross(w, iw)
+        if np.any(w):
+            iw = np.einsum("kab,kb->ka", k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1)), w)
+            fb[: self.N, 3:] -= cross(w, iw)
         fb[: self.N, :3] += self.mass[:, None] * self.gravity
         fb += self.static
         for e in self.elements:
@@ -231,6 +236,8 @@ class MultibodyModel:
     def tangents(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
         """Approximate stiffness and damping (n, n) of the force elements, for the Newton matrix."""
         size = 6 * (self.N + 1)
+        if not self.elements:
+            return np.zeros((self.n, self.n)), np.zeros((self.n, self.n))
         kf, df = np.zeros((size, size)), np.zeros((size, size))
         for e in self.elements:
             t = e.tangent(k)
@@ -240,6 +247,45 @@ class MultibodyModel:
                 df[np.ix_(cols, cols)] += dd
         s = self.sel
         return kf[np.ix_(s, s)], df[np.ix_(s, s)]
+
+    def gyroscopic_damping(self, k: Kin) -> np.ndarray:
+        """d(w x I w)/dw per body, (n, n): the gyroscopic part of -df/dv."""
+        size = 6 * (self.N + 1)
+        out = np.zeros((size, size))
+        if not self._has_rotation():
+            return out[np.ix_(self.sel, self.sel)]
+        iw_mat = k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
+        w = k.W[: self.N, 3:]
+        blocks = skew(w) @ iw_mat - skew(np.einsum("kab,kb->ka", iw_mat, w))
+        for i in range(self.N):
+            out[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = blocks[i]
+        return out[np.ix_(self.sel, self.sel)]
+
+    def inertial_stiffness(self, k: Kin, acc: np.ndarray) -> np.ndarray:
+        """d(I_w a)/dtheta per body: the rotation of the world inertia under a position increment."""
+        size = 6 * (self.N + 1)
+        out = np.zeros((size, size))
+        if not self._has_rotation():
+            return out[np.ix_(self.sel, self.sel)]
+        a = self.full(acc).reshape(self.N + 1, 6)[: self.N, 3:]
+        iw_mat = k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
+        blocks = -skew(np.einsum("kab,kb->ka", iw_mat, a)) + iw_mat @ skew(a)
+        for i in range(self.N):
+            out[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = blocks[i]
+        return out[np.ix_(self.sel, self.sel)]
+
+    def geometric_stiffness(self, k: Kin, lam_kept: np.ndarray) -> np.ndarray:
+        """d(C^T lambda)/dq of the joints' point and perp primitives, (n, n)."""
+        size = 6 * (self.N + 1)
+        out = np.zeros((size, size))
+        if len(lam_kept) and self._has_rotation():
+            lam = np.zeros(self.m)
+            lam[self.kept] = lam_kept
+            self.constraints.geometric_stiffness(k, lam, out)
+        return out[np.ix_(self.sel, self.sel)]
+
+    def _has_rotation(self) -> bool:
+        return bool(np.any(self.inertia)) and bool(np.any(self.sel % 6 >= 3))
 
     # ------------------------------------------------------------------ constraints
     def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True) -> tuple:
@@ -264,7 +310,9 @@ class MultibodyModel:
         """Kept rows, generalised slots."""
         phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma)
         kept = self.kept
-        return Evaluation(phi[kept], jf[np.ix_(kept, self.sel)], None if gm is None else gm[kept], rhs[kept])
+        if getattr(self, "_kept_key", None) is not kept:
+            self._kept_key, self._kept_ix = kept, np.ix_(kept, self.sel)
+        return Evaluation(phi[kept], jf[self._kept_ix], None if gm is None else gm[kept], rhs[kept])
 
     # ------------------------------------------------------------------ energy
     def kinetic_energy(self, pose: Pose, v: np.ndarray) -> float:

@@ -28,7 +28,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-
 from pythonfmu.enums import Fmi2Status
 
 from fmu_base.slave import VectorSlave, indexed_names, load_spec, matrix_names
