@@ -285,7 +285,9 @@ class MultibodyModel:
         return out[np.ix_(self.sel, self.sel)]
 
     def _has_rotation(self) -> bool:
-        return bool(np.any(self.inertia)) and bool(np.any(self.sel % 6 >= 3))
+        if not hasattr(self, "_rotation_flag"):
+            self._rotation_flag = bool(np.any(self.inertia)) and bool(np.any(self.sel % 6 >= 3))
+        return self._rotation_flag
 
     # ------------------------------------------------------------------ constraints
     def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True) -> tuple:

@@ -196,8 +196,8 @@ class MultibodySlave(VectorSlave):
         m = len(spec["hydro_coordinates"])
         self.system = build_simulator(spec, self.array("A_inf").reshape(m, m))
         model = self.system.model
-        self._input_slots = np.array([model.slot_of(b, d) for b in (x["name"] for x in spec["bodies"])
-                                      for d in next(x for x in spec["bodies"] if x["name"] == b)["dofs"]], dtype=int)
+        self._input_slots = np.array([model.slot_of(b["name"], d) for b in spec["bodies"] for d in b["dofs"]],
+                                     dtype=int)
         self.array("mbd.dof")[0] = self.system.report.dof
         self.array("mbd.redundant_constraints")[0] = len(self.system.report.redundant)
 
@@ -251,7 +251,8 @@ class MultibodySlave(VectorSlave):
     def _step_nonlinear(self, step_size: float) -> bool:
         sim = self.system
         if sim.ptos:
-            sim.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"), self.array("pto.force_command"))
+            sim.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
+                                 self.array("pto.force_command"))
         inputs = np.zeros(sim.model.n)
         inputs[self._input_slots] = self.array("F")
         try:
