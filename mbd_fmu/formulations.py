@@ -31,7 +31,9 @@ alpha_f``); on a jump it is reset from the new consistent acceleration and its d
 ``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` by a central difference
 of the consistent acceleration along the motion. This keeps second order when the input
 changes every step (``restart="consistent"``); ``"acceleration"`` (``a = v'``) and ``"none"``
-(keep ``a``) are available for comparison.
+(keep ``a``) are available for comparison. When the shift is larger than half the acceleration
+(stiff components, ``h |lambda| >> 1``, e.g. regularised friction) the Taylor shift is meaningless
+and ``a = v'`` is used for that restart.
 """
 
 from __future__ import annotations
@@ -170,7 +172,7 @@ class Index3(Formulation):
         super().__init__(model, settings)
         self.coef = GeneralizedAlphaCoefficients(settings.spectral_radius)
         self.a: np.ndarray | None = None
-        self._lu = None
+        self.stiff_restarts = 0
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         super().initialize(pose, v, t, inputs)
@@ -192,7 +194,12 @@ class Index3(Formulation):
         bwd = self.pose.retract(m.full(-eps * self.v))
         ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
         am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
-        return self.vdot + delta * h * (ap - am) / (2 * eps)
+        correction = delta * h * (ap - am) / (2 * eps)
+        if np.max(np.abs(correction)) > 0.5 * np.max(np.abs(self.vdot)) + 1e-12:
+            # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
+            self.stiff_restarts += 1
+            return self.vdot.copy()
+        return self.vdot + correction
 
     def step(self, h: float) -> None:
         self.reselect_rows()
@@ -222,8 +229,19 @@ class Index3(Formulation):
         lu = None
         exact = False
         size = np.inf
+        r_norm_prev = np.inf
+        dx = None
         for it in range(self.settings.max_iterations):
             r, k, mass, ev = residual(vd, lam)
+            r_norm = float(np.max(np.abs(r)))
+            backtracks = 0
+            while dx is not None and it >= 2 and r_norm > r_norm_prev and backtracks < 6:
+                dx = 0.5 * dx  # damped Newton: the full step increased the residual
+                vd, lam = vd - dx[:n], lam - dx[n:]
+                r, k, mass, ev = residual(vd, lam)
+                r_norm = float(np.max(np.abs(r)))
+                backtracks += 1
+            r_norm_prev = r_norm
             if lu is None:
                 r_ = len(lam)
                 if exact:  # finite-difference Jacobian of the full residual (stagnating modified Newton)
