@@ -60,7 +60,8 @@ class PrimitiveGroup:
         self.ROW = (np.array(self.rows, dtype=int)[:, None] + np.arange(c)[None, :]).reshape(k, c)
         cols = np.concatenate([6 * self.BI[:, None] + np.arange(6), 6 * self.BJ[:, None] + np.arange(6)], axis=1)
         self.COLS = cols  # (k, 12)
-        self.SCATTER = (np.broadcast_to(self.ROW[:, :, None], (k, c, 12)), np.broadcast_to(cols[:, None, :], (k, c, 12)))
+        self.SCATTER = (np.broadcast_to(self.ROW[:, :, None], (k, c, 12)),
+                        np.broadcast_to(cols[:, None, :], (k, c, 12)))
 
     def __len__(self) -> int:
         return len(self.bi)

@@ -81,7 +81,8 @@ class Joint:
 
     def __post_init__(self) -> None:
         if self.kind not in JOINT_KINDS:
-            raise ValueError(f"joint {self.name!r}: unknown kind {self.kind!r}; expected one of {', '.join(JOINT_KINDS)}")
+            raise ValueError(
+                f"joint {self.name!r}: unknown kind {self.kind!r}; expected one of {', '.join(JOINT_KINDS)}")
         if self.body1 == self.body2:
             raise ValueError(f"joint {self.name!r}: body1 and body2 are the same body {self.body2!r}")
         if not np.all(np.isfinite(self.position)):

@@ -76,7 +76,7 @@ def linearize(model: MultibodyModel, pose: Pose | None = None, t: float = 0.0, e
     for i in range(n):
         e = np.zeros(n)
         e[i] = eps
-        k[:, i] = -(force(e, zero) - force(-e, zero)) / (2 * eps) + (constraint_force(e) - constraint_force(-e)) / (2 * eps)
+        k[:, i] = (-(force(e, zero) - force(-e, zero)) + constraint_force(e) - constraint_force(-e)) / (2 * eps)
         d[:, i] = -(force(zero, e) - force(zero, -e)) / (2 * eps)
     p = null_space(c) if c.size else np.eye(n)
     return Linearization(list(model.coordinates), model.mass_matrix(pose), d, k, c, p, lam0, residual)

@@ -102,7 +102,8 @@ def bricard(length: float = 1.0, mass: float = 1.0) -> tuple[MultibodyModel, Pos
     # ground bar from pts[5] to pts[0]; moving bars k = 0..4 from pts[k] to pts[k+1]
     bodies = [rod(f"bar{k}", (pts[k] + pts[k + 1]) / 2, pts[k + 1] - pts[k], mass, L) for k in range(5)]
     joints = [Joint("j0", "revolute", None, "bar0", tuple(pts[0]), axes[0])]
-    joints += [Joint(f"j{k + 1}", "revolute", f"bar{k}", f"bar{k + 1}", tuple(pts[k + 1]), axes[k + 1]) for k in range(4)]
+    joints += [Joint(f"j{k + 1}", "revolute", f"bar{k}", f"bar{k + 1}", tuple(pts[k + 1]), axes[k + 1])
+               for k in range(4)]
     joints += [Joint("j5", "revolute", None, "bar4", tuple(pts[5]), axes[5])]
     model = MultibodyModel(bodies, joints, gravity=(0, 0, -G))
     return model, model.reference.copy()
