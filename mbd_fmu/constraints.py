@@ -164,12 +164,24 @@ def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         gamma[rows] = -_dot(d, wi - wj)
 
 
+def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """World offsets of the two points from their cgs and the vector from point i to point j."""
+    ai = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
+    aj = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+    return ai, aj, k.rr[g.BJ] + aj - k.rr[g.BI] - ai
+
+
+def _relative_motion(g: PrimitiveGroup, k: Kin, ai: np.ndarray, aj: np.ndarray) -> tuple:
+    """Angular velocities of both bodies, rate of the point-to-point vector, and its centripetal part."""
+    vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
+    vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
+    dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
+    return wi, wj, dd, _cross(wj, _cross(wj, aj)) - _cross(wi, _cross(wi, ai))
+
+
 def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    Ri, Rj = k.RR[g.BI], k.RR[g.BJ]
-    n = np.einsum("kab,kb->ka", Ri, g.NI)
-    ai = np.einsum("kab,kb->ka", Ri, g.VI)
-    aj = np.einsum("kab,kb->ka", Rj, g.VJ)
-    d = k.rr[g.BJ] + aj - k.rr[g.BI] - ai
+    n = np.einsum("kab,kb->ka", k.RR[g.BI], g.NI)
+    ai, aj, d = _offsets(g, k)
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(n, d) - g.C0
@@ -181,18 +193,13 @@ def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         blocks[:, 0, 9:12] = _cross(aj, n)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
-        vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
-        dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
-        quad = (_dot(_cross(wi, _cross(wi, n)), d) + 2 * _dot(_cross(wi, n), dd)
-                + _dot(n, _cross(wj, _cross(wj, aj)) - _cross(wi, _cross(wi, ai))))
+        wi, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        quad = _dot(_cross(wi, _cross(wi, n)), d) + 2 * _dot(_cross(wi, n), dd) + _dot(n, centripetal)
         gamma[rows] = -quad
 
 
 def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    ai = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-    aj = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
-    d = k.rr[g.BJ] + aj - k.rr[g.BI] - ai
+    ai, aj, d = _offsets(g, k)
     length = np.linalg.norm(d, axis=1)
     e = d / length[:, None]
     rows = g.ROW[:, 0]
@@ -206,12 +213,8 @@ def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         blocks[:, 0, 9:12] = _cross(aj, e)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
-        vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
-        dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
-        quad = _dot(e, _cross(wj, _cross(wj, aj)) - _cross(wi, _cross(wi, ai))) + (
-            _dot(dd, dd) - _dot(e, dd) ** 2) / length
-        gamma[rows] = -quad
+        _, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        gamma[rows] = -(_dot(e, centripetal) + (_dot(dd, dd) - _dot(e, dd) ** 2) / length)
 
 
 _EVALUATORS = {"point": _point, "perp": _perp, "plane": _plane, "distance": _distance}

@@ -210,7 +210,7 @@ class MultibodyModel:
         blocks = np.zeros((self.N, 6, 6))
         blocks[:, 0, 0] = blocks[:, 1, 1] = blocks[:, 2, 2] = self.mass
         if self._rotating:
-            blocks[:, 3:, 3:] = pose.R @ self.inertia @ np.transpose(pose.R, (0, 2, 1))
+            blocks[:, 3:, 3:] = self.world_inertia(self._pose_kin(pose))
         m = self.added.copy()
         m[rows, cols] += blocks[b, lr, lc]
         return m
@@ -221,8 +221,7 @@ class MultibodyModel:
         fb = f.reshape(self.N + 1, 6)
         w = k.W[: self.N, 3:]
         if np.any(w):
-            iw = np.einsum("kab,kb->ka", k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1)), w)
-            fb[: self.N, 3:] -= cross(w, iw)
+            fb[: self.N, 3:] -= cross(w, np.einsum("kab,kb->ka", self.world_inertia(k), w))
         fb[: self.N, :3] += self.mass[:, None] * self.gravity
         fb += self.static
         for e in self.elements:
@@ -248,31 +247,34 @@ class MultibodyModel:
         s = self.sel
         return kf[np.ix_(s, s)], df[np.ix_(s, s)]
 
-    def gyroscopic_damping(self, k: Kin) -> np.ndarray:
-        """d(w x I w)/dw per body, (n, n): the gyroscopic part of -df/dv."""
+    def world_inertia(self, k: Kin) -> np.ndarray:
+        """(N, 3, 3) inertia tensors in world axes, ``R I_0 R^T``."""
+        return k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
+
+    def _rotation_blocks(self, blocks: np.ndarray | None) -> np.ndarray:
+        """(n, n) matrix with per-body 3x3 ``blocks`` on the rotation slots (zero if None)."""
         size = 6 * (self.N + 1)
         out = np.zeros((size, size))
-        if not self._has_rotation():
-            return out[np.ix_(self.sel, self.sel)]
-        iw_mat = k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
-        w = k.W[: self.N, 3:]
-        blocks = skew(w) @ iw_mat - skew(np.einsum("kab,kb->ka", iw_mat, w))
-        for i in range(self.N):
-            out[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = blocks[i]
+        if blocks is not None:
+            for i in range(self.N):
+                out[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = blocks[i]
         return out[np.ix_(self.sel, self.sel)]
+
+    def gyroscopic_damping(self, k: Kin) -> np.ndarray:
+        """d(w x I w)/dw per body, (n, n): the gyroscopic part of -df/dv."""
+        if not self._has_rotation():
+            return self._rotation_blocks(None)
+        iw = self.world_inertia(k)
+        w = k.W[: self.N, 3:]
+        return self._rotation_blocks(skew(w) @ iw - skew(np.einsum("kab,kb->ka", iw, w)))
 
     def inertial_stiffness(self, k: Kin, acc: np.ndarray) -> np.ndarray:
         """d(I_w a)/dtheta per body: the rotation of the world inertia under a position increment."""
-        size = 6 * (self.N + 1)
-        out = np.zeros((size, size))
         if not self._has_rotation():
-            return out[np.ix_(self.sel, self.sel)]
+            return self._rotation_blocks(None)
         a = self.full(acc).reshape(self.N + 1, 6)[: self.N, 3:]
-        iw_mat = k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
-        blocks = -skew(np.einsum("kab,kb->ka", iw_mat, a)) + iw_mat @ skew(a)
-        for i in range(self.N):
-            out[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = blocks[i]
-        return out[np.ix_(self.sel, self.sel)]
+        iw = self.world_inertia(k)
+        return self._rotation_blocks(-skew(np.einsum("kab,kb->ka", iw, a)) + iw @ skew(a))
 
     def geometric_stiffness(self, k: Kin, lam_kept: np.ndarray) -> np.ndarray:
         """d(C^T lambda)/dq of the joints' point and perp primitives, (n, n)."""

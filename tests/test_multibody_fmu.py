@@ -8,7 +8,6 @@ from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
 from orchestrator.cli import main
-from orchestrator.errors import ScenarioError
 from orchestrator.fmu_builder import build_scene_fmus
 from orchestrator.masters import JacobiMaster
 from orchestrator.scenario import load_scenario
@@ -16,6 +15,7 @@ from orchestrator.scene import MBD, load_scene
 from orchestrator.simulation import Recorder, make_components
 
 from .conftest import SCENARIOS
+from .test_scenario import assert_rejected, write
 
 BASE = (SCENARIOS / "hinge_barge.toml").read_text()
 
@@ -80,13 +80,6 @@ def test_pto_damping_input_drives_the_point_to_point_pto(barge) -> None:
     np.testing.assert_allclose(runs[1], runs[0], rtol=1e-12, atol=1e-12)
 
 
-def write(tmp_path, text: str):
-    path = tmp_path / "scene.toml"
-    path.write_text(text)
-    (tmp_path / "hydro_cache").mkdir(exist_ok=True)
-    return path
-
-
 @pytest.mark.parametrize("edit, fragments", [
     (lambda t: t.replace('body2 = "barge2"\nposition = [0.78', 'body2 = "barge3"\nposition = [0.78'),
      ["joints[0] (hinge)", "body2 'barge3' is not a defined body"]),
@@ -108,13 +101,7 @@ def write(tmp_path, text: str):
      ["stiffness_matrix needs 6 or 36 values"]),
 ])
 def test_invalid_multibody_scenarios_name_file_and_key(tmp_path, edit, fragments) -> None:
-    path = write(tmp_path, edit(BASE))
-    with pytest.raises(ScenarioError) as info:
-        load_scenario(path)
-    message = str(info.value)
-    assert str(path) in message
-    for fragment in fragments:
-        assert fragment in message, message
+    assert_rejected(write(tmp_path, edit(BASE)), fragments)
 
 
 def test_cli_reports_a_bad_joint_without_a_traceback(tmp_path, capsys) -> None:
