@@ -223,10 +223,31 @@ class Table(TimeFunction):
         return float(self.spline(self._clip(t), 2)) if self.times[0] <= t <= self.times[-1] else 0.0
 
     def integral(self, t0: float, start: float) -> TimeFunction:
-        dense = np.linspace(self.times[0], self.times[-1], 20 * len(self.times))
-        anti = self.spline.antiderivative()
-        values = start + anti(dense) - anti(self._clip(t0))
-        return Table(dense, values)
+        """The position whose velocity is this table (held at its end values outside), ``start`` at ``t0``."""
+        return _TableIntegral(self, t0, start)
+
+
+class _TableIntegral(TimeFunction):
+    """Exact antiderivative of a :class:`Table` (the spline's own antiderivative, linear outside)."""
+
+    def __init__(self, table: Table, t0: float, start: float) -> None:
+        self.table = table
+        self.anti = table.spline.antiderivative()
+        self.offset = start - self._raw(t0)
+
+    def _raw(self, t: float) -> float:
+        lo, hi = self.table.times[0], self.table.times[-1]
+        tc = min(max(t, lo), hi)
+        return float(self.anti(tc)) + self.table.value(t) * (t - tc)
+
+    def value(self, t: float) -> float:
+        return self.offset + self._raw(t)
+
+    def d1(self, t: float) -> float:
+        return self.table.value(t)
+
+    def d2(self, t: float) -> float:
+        return self.table.d1(t)
 
 
 @dataclass

@@ -214,3 +214,17 @@ def test_joint_pto_force_command_sets_the_static_deflection() -> None:
     position, velocity, force, power = sim.pto_outputs()[0]
     assert position == pytest.approx(20.0 / 500.0, rel=1e-6)
     assert abs(force) < 1e-6 and abs(power) < 1e-6
+
+
+@pytest.mark.parametrize("law", [Harmonic(0.7, 2.0, 0.3, 0.2), "table"])
+def test_velocity_level_drivers_integrate_the_law_exactly(law) -> None:
+    """A prescribed velocity becomes the position law start + integral of the velocity (checked by quadrature)."""
+    from mbd_fmu.joints import Table
+
+    if law == "table":
+        law = Table([0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 0.0, 2.0])
+    position = law.integral(0.5, 3.0)
+    for t in (0.2, 1.7, 2.9, 4.0):
+        assert position.value(t) == pytest.approx(3.0 + quad(law.value, 0.5, t, epsabs=1e-13, limit=200)[0],
+                                                  abs=1e-9)
+        assert position.d1(t) == pytest.approx(law.value(t), abs=1e-12)
