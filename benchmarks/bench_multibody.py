@@ -66,7 +66,7 @@ def exudyn_chain(n: int, h: float, steps: int) -> float | None:
     mbs = sc.AddSystem()
     ground = mbs.CreateGround()
     rot = exp_so3(np.array([0.0, TILT, 0.0]))
-    inertia = InertiaCuboid(1000.0, sideLengths=[0.01, 0.01, 1.0])  # 1 kg, thin: close to our rod
+    inertia = InertiaCuboid(1.0e4, sideLengths=[0.01, 0.01, 1.0])  # 1 kg, thin: close to our rod
     previous = ground
     for i in range(n):
         centre = rot @ np.array([0.0, 0.0, -(i + 0.5)])

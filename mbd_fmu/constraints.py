@@ -103,8 +103,7 @@ class ConstraintSet:
                 a = np.einsum("kab,kb->ka", k.RR[b], v)
                 lk = lam[g.ROW]
                 blocks = sign * (a[:, :, None] * lk[:, None, :] - _dot(a, lk)[:, None, None] * eye)
-                for bi, blk in zip(b, blocks, strict=True):
-                    out[6 * bi + 3:6 * bi + 6, 6 * bi + 3:6 * bi + 6] += blk
+                _add_blocks(out, b, b, blocks)
         g = self.groups["perp"]
         if len(g):
             u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
@@ -113,17 +112,22 @@ class ConstraintSet:
             uw = _dot(u, w)[:, None, None] * np.eye(3)
             ii = lk[:, None, None] * (u[:, :, None] * w[:, None, :] - uw)
             ij = lk[:, None, None] * (uw - w[:, :, None] * u[:, None, :])
-            for bi, bj, a1, a2 in zip(g.BI, g.BJ, ii, ij, strict=True):
-                ri, rj = slice(6 * bi + 3, 6 * bi + 6), slice(6 * bj + 3, 6 * bj + 6)
-                out[ri, ri] += a1
-                out[ri, rj] += a2
-                out[rj, ri] -= a1
-                out[rj, rj] -= a2
+            _add_blocks(out, g.BI, g.BI, ii)
+            _add_blocks(out, g.BI, g.BJ, ij)
+            _add_blocks(out, g.BJ, g.BI, -ii)
+            _add_blocks(out, g.BJ, g.BJ, -ij)
 
     def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None) -> None:
         """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None)."""
         for g in self.active:
             _EVALUATORS[g.kind](g, k, phi, jac, gamma)
+
+
+def _add_blocks(out: np.ndarray, bi: np.ndarray, bj: np.ndarray, blocks: np.ndarray) -> None:
+    """out[rot(bi), rot(bj)] += blocks, for all instances at once (repeated bodies accumulate)."""
+    r = 6 * bi[:, None, None] + 3 + np.arange(3)[None, :, None]
+    c = 6 * bj[:, None, None] + 3 + np.arange(3)[None, None, :]
+    np.add.at(out, (np.broadcast_to(r, blocks.shape), np.broadcast_to(c, blocks.shape)), blocks)
 
 
 def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:

@@ -42,6 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import lu_factor, lu_solve, qr
+from scipy.sparse import csc_matrix
+from scipy.sparse.linalg import splu
 
 from .assembly import independent_rows
 from .integrators import TABLEAUS, GeneralizedAlphaCoefficients, rkmk_step
@@ -54,16 +56,26 @@ RESTARTS = ("consistent", "acceleration", "none")
 
 class Factorized:
     """A square matrix ready for repeated solves: explicit inverse when small (cheapest per solve in
-    numpy), LU factors otherwise."""
+    numpy), sparse LU (SuperLU) when large and sparse (chains, arrays of bodies), dense LU otherwise."""
 
     SMALL = 48
 
     def __init__(self, a: np.ndarray) -> None:
-        self.small = a.shape[0] <= self.SMALL
-        self.data = np.linalg.inv(a) if self.small else lu_factor(a, check_finite=False)
+        n = a.shape[0]
+        self.kind = "inv" if n <= self.SMALL else ("sparse" if np.count_nonzero(a) < 0.1 * n * n else "lu")
+        if self.kind == "inv":
+            self.data = np.linalg.inv(a)
+        elif self.kind == "sparse":
+            self.data = splu(csc_matrix(a))
+        else:
+            self.data = lu_factor(a, check_finite=False)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        return self.data @ b if self.small else lu_solve(self.data, b, check_finite=False)
+        if self.kind == "inv":
+            return self.data @ b
+        if self.kind == "sparse":
+            return self.data.solve(b)
+        return lu_solve(self.data, b, check_finite=False)
 
 
 class ConvergenceError(RuntimeError):
