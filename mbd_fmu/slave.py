@@ -132,6 +132,10 @@ class MultibodySlave(VectorSlave):
                            description="reaction force on body 2 from body 1 (world frame)")
             self.add_reals(f"{n}.moment", indexed_names(f"{n}.moment", (1, 2, 3)), "output", np.zeros(3),
                            unit="N.m", description="reaction moment on body 2 about the joint point (world frame)")
+        for f in self.spec.get("forces", []):
+            n, size = f["name"], _force_outputs(f)
+            self.add_reals(f"{n}.force", indexed_names(f"{n}.force", range(1, size + 1)), "output", np.zeros(size),
+                           unit=_force_units(f), description="force element output (see docs/fmu_variables.md)")
         for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
             self.add_reals(f"energy.{key}", [f"energy.{key}"], "output", [0.0], unit="J", description=f"energy: {key}")
         for key, desc in (("constraint_violation", "largest constraint residual (m or rad)"),
@@ -223,6 +227,10 @@ class MultibodySlave(VectorSlave):
                 self.array(f"{j['name']}.rate")[:] = qd
             self.array(f"{j['name']}.force")[:] = force
             self.array(f"{j['name']}.moment")[:] = moment
+        kin = sim.kin
+        for f in self.spec.get("forces", []):
+            parts = [e.output(kin) for e in sim.model.elements if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
+            self.array(f"{f['name']}.force")[:] = np.concatenate(parts) if parts else 0.0
         for key, value in sim.energy().items():
             self.array(f"energy.{key}")[0] = value
         self.array("mbd.constraint_violation")[0] = sim.constraint_violation()
@@ -270,6 +278,30 @@ JOINT_COORDINATE_UNITS = {
     "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
     "distance": [("m", "m/s")],
 }
+
+
+def _force_outputs(f: dict) -> int:
+    """Number of outputs of a force element: tension or force (1), mooring wrench (6), catenary
+    fairlead force (3), bushing: one per stiff or damped relative DOF."""
+    if f["kind"] == "mooring":
+        return 6
+    if f["kind"] == "catenary":
+        return 3
+    if f["kind"] == "bushing":
+        return sum(1 for k, c in zip(f["stiffness"], f["damping"], strict=True) if k or c)
+    return 1
+
+
+def _force_units(f: dict) -> list[str]:
+    rot = f["kind"] in ("rotary_spring_damper", "friction") and f.get("rotational", True)
+    if f["kind"] == "mooring":
+        return ["N"] * 3 + ["N.m"] * 3
+    if f["kind"] == "catenary":
+        return ["N"] * 3
+    if f["kind"] == "bushing":
+        return [("N.m" if d >= 3 else "N") for d, (k, c) in enumerate(zip(f["stiffness"], f["damping"], strict=True))
+                if k or c]
+    return ["N.m" if rot else "N"]
 
 
 def _pto_rotational(p: dict) -> bool:

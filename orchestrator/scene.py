@@ -209,7 +209,8 @@ class Scene:
             {"name": j.name, "kind": j.kind, "body1": None if j.body1 == "ground" else j.body1, "body2": j.body2,
              "position": list(j.position), "axis": list(j.axis), "axis2": list(j.axis2) or None,
              "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
-        spec["forces"] = [self._force_spec(e) for e in s.forces]
+        kinds = {j.name: j.kind for j in s.joints}
+        spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
         for p, out in zip(s.ptos, spec["ptos"], strict=True):

@@ -228,3 +228,11 @@ def test_velocity_level_drivers_integrate_the_law_exactly(law) -> None:
         assert position.value(t) == pytest.approx(3.0 + quad(law.value, 0.5, t, epsabs=1e-13, limit=200)[0],
                                                   abs=1e-9)
         assert position.d1(t) == pytest.approx(law.value(t), abs=1e-12)
+
+
+def test_rotary_spring_about_a_revolute_axis() -> None:
+    """Disc on a revolute joint through its cg with a torsion spring k: frequency sqrt(k / I_axis)."""
+    k = 80.0
+    model = MultibodyModel([block()], [Joint("axle", "revolute", None, "b", (0, 0, 0), (0, 0, 1))])
+    model.elements = [CoordinateSpringDamper("torsion", coordinate(model, {"kind": "joint", "joint": "axle"}), k)]
+    assert linearize(model).natural_frequencies()[0] == pytest.approx(math.sqrt(k / 0.9), rel=1e-7)

@@ -109,3 +109,117 @@ def test_cli_reports_a_bad_joint_without_a_traceback(tmp_path, capsys) -> None:
     assert main(["run", str(path)]) == 2
     err = capsys.readouterr().err
     assert "body1 'barge9' is not a defined body" in err and "Traceback" not in err
+
+
+EXTRAS = '''
+[[bodies]]
+name = "arm"
+cg = [0.0, 2.0, -0.2]
+mass = 40.0
+inertia = [10.0, 1.0, 10.0]
+hydro = false
+buoyancy = 392.4
+
+[[bodies]]
+name = "weight"
+cg = [0.0, 3.5, -1.0]
+mass = 5.0
+hydro = false
+point_mass = true
+dofs = ["surge", "sway", "heave"]
+
+[[joints]]
+name = "ball"
+kind = "spherical"
+body1 = "barge1"
+body2 = "arm"
+position = [0.0, 1.0, -0.2]
+
+[[joints]]
+name = "pin"
+kind = "revolute"
+body1 = "barge2"
+body2 = "arm"
+position = [0.0, 3.0, -0.2]
+axis = [1.0, 0.0, 0.0]
+locked = true
+
+[[forces]]
+name = "pitch_pto"
+kind = "bushing"
+body1 = "barge1"
+body2 = "arm"
+position = [0.0, 1.0, -0.2]
+stiffness_matrix = [0.0, 0.0, 0.0, 0.0, 500.0, 500.0]
+damping_matrix = [0.0, 0.0, 0.0, 0.0, 100.0, 100.0]
+
+[[forces]]
+name = "tether"
+kind = "rope"
+body1 = "arm"
+point1 = [0.0, 2.5, -0.2]
+body2 = "weight"
+point2 = [0.0, 3.5, -1.0]
+stiffness = 1e4
+
+[[forces]]
+name = "anchor_line"
+kind = "catenary"
+body = "barge2"
+fairlead = [3.5, 0.0, -0.05]
+anchor = [20.0, 0.0, -15.0]
+length = 25.0
+weight = 5.0
+ea = 1e7
+
+[[forces]]
+name = "hinge_spring"
+kind = "rotary_spring_damper"
+joint = "hinge"
+stiffness = 200.0
+
+[[forces]]
+name = "hinge_friction"
+kind = "friction"
+joint = "hinge"
+force = 2.0
+velocity = 0.01
+
+[[drivers]]
+name = "wiggle"
+body = "weight"
+dof = "surge"
+function = "harmonic"
+amplitude = 0.05
+period = 3.0
+'''
+
+
+def test_every_element_kind_is_wired_from_the_scenario_to_the_fmu_outputs(tmp_path) -> None:
+    """A scene with a spherical and a locked revolute joint, a point mass, a bushing, a rope, a
+    catenary line, a rotary spring, friction and a driver: the nonlinear model builds, reports its
+    mobility, and the FMU's outputs for every element are finite after a short co-simulation."""
+    text = BASE.replace('dofs = ["surge", "heave", "pitch"]', 'dofs = ["surge", "sway", "heave", "roll", "pitch", "yaw"]')
+    path = tmp_path / "extras.toml"
+    path.write_text(text + EXTRAS)
+    scenario = load_scenario(path)
+    scenario.hydro.cache_dir = str(SCENARIOS / "hydro_cache")  # the committed hinge-barge database
+    scene = load_scene(scenario, log=None)
+    sim = scene.multibody_simulator()
+    # 3 x 6 rigid + 3 point-mass coordinates; hinge 5, ball 3, locked pin 6, driver 1 equations. With the
+    # arm locked to barge 2, the hinge (5) and the ball (3) both tie barge 1 to that pair: 8 equations on
+    # 6 relative DOF, so 2 are redundant and the rank is 13.
+    assert (sim.report.coordinates, sim.report.rank, len(sim.report.redundant)) == (21, 13, 2)
+    fmus = build_scene_fmus(scene)
+    master = JacobiMaster(make_components(fmus), scene.connections(), 2, Recorder.observed(scene))
+    master.initialize(0.0, 1.0, scene.parameter_links())
+    out = run(master, scene, 10, 0.02)
+    names = ["pitch_pto.force[1]", "pitch_pto.force[2]", "tether.force[1]", "anchor_line.force[3]",
+             "hinge_spring.force[1]", "hinge_friction.force[1]", "pin.moment[1]", "energy.balance",
+             "weight.pose[1]", "mbd.constraint_violation"]
+    comp = master.components[MBD]
+    values = comp.get_reals(comp.port(names))
+    master.terminate()
+    assert np.all(np.isfinite(out)) and np.all(np.isfinite(values))
+    assert values[3] < 0  # the catenary pulls the fairlead down
+    assert values[-1] < 1e-8
