@@ -229,7 +229,8 @@ class MultibodySlave(VectorSlave):
             self.array(f"{j['name']}.moment")[:] = moment
         kin = sim.kin
         for f in self.spec.get("forces", []):
-            parts = [e.output(kin) for e in sim.model.elements if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
+            parts = [e.output(kin) for e in sim.model.elements
+                     if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
             self.array(f"{f['name']}.force")[:] = np.concatenate(parts) if parts else 0.0
         for key, value in sim.energy().items():
             self.array(f"energy.{key}")[0] = value

@@ -199,7 +199,8 @@ def test_every_element_kind_is_wired_from_the_scenario_to_the_fmu_outputs(tmp_pa
     """A scene with a spherical and a locked revolute joint, a point mass, a bushing, a rope, a
     catenary line, a rotary spring, friction and a driver: the nonlinear model builds, reports its
     mobility, and the FMU's outputs for every element are finite after a short co-simulation."""
-    text = BASE.replace('dofs = ["surge", "heave", "pitch"]', 'dofs = ["surge", "sway", "heave", "roll", "pitch", "yaw"]')
+    text = BASE.replace('dofs = ["surge", "heave", "pitch"]',
+                        'dofs = ["surge", "sway", "heave", "roll", "pitch", "yaw"]')
     path = tmp_path / "extras.toml"
     path.write_text(text + EXTRAS)
     scenario = load_scenario(path)
