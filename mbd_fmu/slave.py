@@ -205,7 +205,40 @@ class MultibodySlave(VectorSlave):
         self.array("mbd.dof")[0] = self.system.report.dof
         self.array("mbd.redundant_constraints")[0] = len(self.system.report.redundant)
 
-    def _update_nonlinear(self) -> None:
+    # Nonlinear outputs are computed by groups, only those a host reads (reactions and energy cost a
+    # constraint evaluation each; a master that reads the motion only should not pay for them).
+    def _output_group(self, key: str) -> str | None:
+        if key in ("x", "v") or key.endswith(".pose"):
+            return "motion"
+        if key.startswith("pto."):
+            return "pto"
+        if key.startswith("energy."):
+            return "energy"
+        if key == "mbd.constraint_violation":
+            return "violation"
+        names = {j["name"] for j in self.spec.get("joints", [])}
+        if key.split(".")[0] in names:
+            return "joints"
+        if key.split(".")[0] in {f["name"] for f in self.spec.get("forces", [])}:
+            return "forces"
+        return None
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        if not (self.nonlinear and self._ready):
+            return super().get_real(vrs)
+        if self._outputs_stale:
+            self._fresh: set[str] = set()
+            self._outputs_stale = False
+        if not hasattr(self, "_group_of"):
+            key_of = {id(a): k for k, a in self._arrays.items()}
+            self._group_of = {vr: self._output_group(key_of[id(a)]) for vr, (a, _) in self._slot.items()}
+        for group in {self._group_of[vr] for vr in vrs} - {None} - self._fresh:
+            getattr(self, f"_update_{group}")()
+            self._fresh.add(group)
+        slot = self._slot
+        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+
+    def _update_motion(self) -> None:
         sim = self.system
         slots = self._input_slots
         self.array("x")[:] = sim.displacement()[slots]
@@ -213,28 +246,41 @@ class MultibodySlave(VectorSlave):
         disp = sim.model.displacement(sim.formulation.pose)
         for i, b in enumerate(self.spec["bodies"]):
             self.array(f"{b['name']}.pose")[:] = np.concatenate([sim.formulation.pose.r[i], disp[i, 3:]])
-        if sim.ptos:
-            out = sim.pto_outputs()
-            self.array("pto.position")[:] = out[:, 0]
-            self.array("pto.velocity")[:] = out[:, 1]
-            self.array("pto.force")[:] = out[:, 2]
-            self.array("pto.power")[:] = out[:, 3]
-        coords = sim.joint_coordinates()
-        reactions = sim.reactions()
-        for j, (q, qd), (force, moment) in zip(self.spec.get("joints", []), coords, reactions, strict=True):
+
+    def _update_pto(self) -> None:
+        if self.system.ptos:
+            out = self.system.pto_outputs()
+            for k, key in enumerate(("position", "velocity", "force", "power")):
+                self.array(f"pto.{key}")[:] = out[:, k]
+
+    def _update_joints(self) -> None:
+        sim = self.system
+        for j, (q, qd), (force, moment) in zip(self.spec.get("joints", []), sim.joint_coordinates(), sim.reactions(),
+                                               strict=True):
             if len(q):
                 self.array(f"{j['name']}.coordinate")[:] = q
                 self.array(f"{j['name']}.rate")[:] = qd
             self.array(f"{j['name']}.force")[:] = force
             self.array(f"{j['name']}.moment")[:] = moment
+
+    def _update_forces(self) -> None:
+        sim = self.system
         kin = sim.kin
         for f in self.spec.get("forces", []):
             parts = [e.output(kin) for e in sim.model.elements
                      if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
             self.array(f"{f['name']}.force")[:] = np.concatenate(parts) if parts else 0.0
-        for key, value in sim.energy().items():
+
+    def _update_energy(self) -> None:
+        for key, value in self.system.energy().items():
             self.array(f"energy.{key}")[0] = value
-        self.array("mbd.constraint_violation")[0] = sim.constraint_violation()
+
+    def _update_violation(self) -> None:
+        self.array("mbd.constraint_violation")[0] = self.system.constraint_violation()
+
+    def _update_nonlinear(self) -> None:
+        for group in ("motion", "pto", "joints", "forces", "energy", "violation"):
+            getattr(self, f"_update_{group}")()
 
     def update_outputs(self) -> None:
         assert self.system is not None
