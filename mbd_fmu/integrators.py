@@ -12,7 +12,8 @@
   Runge-Kutta-Munthe-Kaas form: stages in local coordinates ``R = exp(S(theta)) R_n`` with
   ``theta' = J_l(theta)^-1 w``, so the classical order is kept on SO(3). ``rk4`` (order 4),
   ``heun`` (order 2), ``euler`` (order 1); stability: the explicit methods' regions (RK4 reaches
-  ``|h lambda| < 2.78`` on the imaginary axis), so stiff force elements need small steps.
+  ``h lambda`` down to -2.79 on the real axis and up to 2.83 on the imaginary axis), so stiff force
+  elements need small steps.
 """
 
 from __future__ import annotations
