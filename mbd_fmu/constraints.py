@@ -127,7 +127,8 @@ def _add_blocks(out: np.ndarray, bi: np.ndarray, bj: np.ndarray, blocks: np.ndar
     """out[rot(bi), rot(bj)] += blocks, for all instances at once (repeated bodies accumulate)."""
     r = 6 * bi[:, None, None] + 3 + np.arange(3)[None, :, None]
     c = 6 * bj[:, None, None] + 3 + np.arange(3)[None, None, :]
-    np.add.at(out, (np.broadcast_to(r, blocks.shape), np.broadcast_to(c, blocks.shape)), blocks)
+    flat = (r * out.shape[1] + c).ravel()
+    out += np.bincount(flat, weights=blocks.ravel(), minlength=out.size).reshape(out.shape)
 
 
 def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
