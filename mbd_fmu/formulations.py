@@ -407,7 +407,7 @@ class NullSpace(Formulation):
         k = m.kin(pose, v, t)
         rho = np.zeros(m.n)
         if lu is not None:
-            rho[self.dep] = lu_solve(lu, m.constraint(k).gamma)
+            rho[self.dep] = lu_solve(lu, m.constraint_gamma(k))
         mass = m.mass_matrix(pose)
         f = m.forces(k, self.inputs)
         vsd = np.linalg.solve(p.T @ mass @ p, p.T @ (f - mass @ rho))

@@ -310,6 +310,14 @@ class MultibodyModel:
                 gm[r] = d.function.d2(k.t) - quad
         return phi, jf, gm, rhs_v
 
+    def constraint_gamma(self, k: Kin) -> np.ndarray:
+        """gamma of the kept rows only (cheaper than :meth:`constraint` when the Jacobian is known)."""
+        gm = np.zeros(self.m)
+        self.constraints.evaluate(k, None, None, gm)
+        for r, d in enumerate(self.drivers, start=self.m_primitive):
+            gm[r] = d.function.d2(k.t) - d.coordinate.evaluate(k)[2]
+        return gm[self.kept]
+
     def constraint(self, k: Kin, *, gamma: bool = True) -> Evaluation:
         """Kept rows, generalised slots."""
         phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma)
