@@ -173,15 +173,16 @@ class Formulation:
         raise NotImplementedError
 
     def reselect_rows(self) -> None:
-        """With redundant constraints, re-choose the independent rows at the current pose (the best
-        set changes along the motion, e.g. in Bricard's linkage); multipliers are carried over."""
+        """With redundant constraints, re-choose the independent rows at the current pose when the kept
+        set has become less than half as well conditioned as the best one (the best set changes along
+        the motion, e.g. in Bricard's linkage); multipliers are carried over."""
         m = self.model
         if len(m.kept) == m.m:
             return
         _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
         c = jf[:, m.sel]
         kept, _, _ = independent_rows(c, rank=len(m.kept))
-        if not np.array_equal(kept, m.kept):
+        if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
             force = c[m.kept].T @ self.lam
             m.kept = kept
             self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
@@ -460,6 +461,12 @@ class NullSpace(Formulation):
             return np.zeros(0)
         res = m.forces(k, self.inputs) - m.mass_matrix(self.pose) @ self.vdot
         return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
+
+
+def _row_quality(rows: np.ndarray) -> float:
+    """Smallest singular value of the row-normalised rows (how independent they are)."""
+    scale = np.maximum(np.linalg.norm(rows, axis=1), 1e-300)
+    return float(np.linalg.svd(rows / scale[:, None], compute_uv=False).min())
 
 
 def make_formulation(model: MultibodyModel, settings: Settings) -> Formulation:
