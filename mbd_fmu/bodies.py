@@ -24,6 +24,7 @@ class RigidBody:
         inertia: 3x3 inertia tensor about the centre of gravity, world axes at equilibrium, kg m^2.
         cg: centre of gravity at equilibrium, world frame, m.
         dofs: active degrees of freedom, 0 = surge ... 5 = yaw, increasing.
+        point_mass: a 3-DOF point mass (translations only; ``inertia`` unused).
     """
 
     name: str
@@ -31,16 +32,21 @@ class RigidBody:
     inertia: np.ndarray
     cg: np.ndarray
     dofs: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
+    point_mass: bool = False
 
     def __post_init__(self) -> None:
         inertia = np.asarray(self.inertia, dtype=float).reshape(3, 3)
         object.__setattr__(self, "inertia", inertia)
         object.__setattr__(self, "cg", np.asarray(self.cg, dtype=float).reshape(3))
-        if not self.mass > 0:
+        if not (self.mass > 0 and np.isfinite(self.mass)):
             raise ValueError(f"body {self.name!r}: mass must be positive (got {self.mass})")
         if not np.allclose(inertia, inertia.T, rtol=1e-12, atol=0):
             raise ValueError(f"body {self.name!r}: inertia tensor is not symmetric")
+        if not np.all(np.isfinite(inertia)) or not np.all(np.isfinite(self.cg)):
+            raise ValueError(f"body {self.name!r}: inertia and cg must be finite numbers")
         rotational = [d for d in self.dofs if d >= 3]
+        if self.point_mass and rotational:
+            raise ValueError(f"body {self.name!r}: a point mass has no rotational degrees of freedom")
         if rotational and np.any(np.linalg.eigvalsh(inertia) <= 0):
             raise ValueError(f"body {self.name!r}: inertia tensor must be positive definite for rotations")
         if list(self.dofs) != sorted(set(self.dofs)) or not set(self.dofs) <= set(range(6)):

@@ -1,8 +1,34 @@
-"""Force elements acting on the bodies' degrees of freedom."""
+"""Force elements acting on the bodies.
+
+:class:`LinearPTO` is the small-motion PTO of the linear model (a body DOF to the ground). The
+nonlinear models use :class:`ForceElement` subclasses, which add their generalised force into
+a full slot vector (six world-frame slots per body: force at the cg, moment about the cg) and
+report their energy terms:
+
+* :class:`CoordinateSpringDamper` - ``F = -k (q - q0) - c q' + u`` on any scalar coordinate
+  (:mod:`mbd_fmu.coordinates`): point-to-point spring-dampers (distance), rotary spring-dampers
+  (joint angle), penalty/bushing components (relative translations and rotations of two frames,
+  seed 000's relative pitch and yaw PTO), and the controllable PTOs (``k``, ``c``, ``u`` are
+  changed between steps by :meth:`set_command`);
+* :class:`Rope` - tension-only spring-damper on a distance;
+* :class:`CoulombFriction` - regularised Coulomb friction ``F = -F_c tanh(q'/v_reg)`` on a
+  joint coordinate (constant friction force or torque magnitude ``F_c``).
+
+Energy bookkeeping: ``potential`` is the stored energy, ``dissipation`` the power dissipated
+(>= 0) and ``supply`` the power put in by commanded forces, so that along any motion
+``d/dt potential = -(power of the element on the bodies) - dissipation + supply``... more
+precisely ``P_bodies = -dV/dt - dissipation + supply`` where ``P_bodies = F q'``.
+"""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+import numpy as np
+
+from .coordinates import Coordinate
+from .kinematics import Kin
 
 
 @dataclass(frozen=True)
@@ -34,3 +60,159 @@ class LinearPTO:
 
     def power(self, x: float, v: float) -> float:
         return -self.force(x, v) * v
+
+
+class ForceElement:
+    """Base class of the nonlinear models' force elements (see the module docstring)."""
+
+    name: str
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:  # pragma: no cover - abstract
+        """Add the generalised force into the full slot vector ``f`` (6 (N + 1))."""
+        raise NotImplementedError
+
+    def tangent(self, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """Approximate ``(cols, K, D)``: -df/dq and -df/dv over slot columns ``cols`` (for Newton)."""
+        return None
+
+    def potential(self, k: Kin) -> float:
+        return 0.0
+
+    def dissipation(self, k: Kin) -> float:
+        return 0.0
+
+    def supply(self, k: Kin) -> float:
+        return 0.0
+
+    def output(self, k: Kin) -> np.ndarray:
+        """Force components reported as FMU outputs."""
+        return np.zeros(0)
+
+    def commit(self, k: Kin) -> None:
+        """After an accepted step."""
+
+
+@dataclass
+class CoordinateSpringDamper(ForceElement):
+    """``F = -k (q - q0) - c q' + u`` on a scalar coordinate (a PTO when ``k``, ``c``, ``u`` are commanded)."""
+
+    name: str
+    coordinate: Coordinate
+    stiffness: float = 0.0
+    damping: float = 0.0
+    force_command: float = 0.0
+    neutral: float = 0.0
+
+    def set_command(self, stiffness: float, damping: float, force: float) -> None:
+        self.stiffness, self.damping, self.force_command = float(stiffness), float(damping), float(force)
+
+    def state(self, k: Kin) -> tuple[float, float, np.ndarray]:
+        """Displacement from neutral, rate and Jacobian."""
+        q, qd, jac = self.coordinate.rate(k)
+        return q - self.neutral, qd, jac
+
+    def force(self, k: Kin) -> float:
+        x, v, _ = self.state(k)
+        return -self.stiffness * x - self.damping * v + self.force_command
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        x, v, jac = self.state(k)
+        f[self.coordinate.cols()] += jac * (-self.stiffness * x - self.damping * v + self.force_command)
+
+    def tangent(self, k: Kin):
+        _, _, jac = self.state(k)
+        outer = np.outer(jac, jac)
+        return self.coordinate.cols(), self.stiffness * outer, self.damping * outer
+
+    def potential(self, k: Kin) -> float:
+        x, _, _ = self.state(k)
+        return 0.5 * self.stiffness * x * x
+
+    def dissipation(self, k: Kin) -> float:
+        _, v, _ = self.state(k)
+        return self.damping * v * v
+
+    def supply(self, k: Kin) -> float:
+        _, v, _ = self.state(k)
+        return self.force_command * v
+
+    def power(self, k: Kin) -> float:
+        """Power absorbed from the bodies, ``-F q'`` (W)."""
+        x, v, _ = self.state(k)
+        return -(-self.stiffness * x - self.damping * v + self.force_command) * v
+
+    def output(self, k: Kin) -> np.ndarray:
+        return np.array([self.force(k)])
+
+    def commit(self, k: Kin) -> None:
+        self.coordinate.commit(k)
+
+
+@dataclass
+class Rope(ForceElement):
+    """Tension-only rope on a distance coordinate: tension ``T = max(0, k (l - L) + c l')`` when ``l > L``."""
+
+    name: str
+    coordinate: Coordinate
+    stiffness: float
+    damping: float = 0.0
+    length: float = 0.0
+
+    def tension(self, k: Kin) -> tuple[float, float, float, np.ndarray]:
+        l, ld, jac = self.coordinate.rate(k)
+        stretch = l - self.length
+        t = max(0.0, self.stiffness * stretch + self.damping * ld) if stretch > 0 else 0.0
+        return t, stretch, ld, jac
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        t, _, _, jac = self.tension(k)
+        f[self.coordinate.cols()] -= jac * t
+
+    def tangent(self, k: Kin):
+        t, stretch, _, jac = self.tension(k)
+        outer = np.outer(jac, jac) if t > 0 else np.zeros((12, 12))
+        return self.coordinate.cols(), self.stiffness * outer, self.damping * outer
+
+    def potential(self, k: Kin) -> float:
+        _, stretch, _, _ = self.tension(k)
+        return 0.5 * self.stiffness * max(stretch, 0.0) ** 2
+
+    def dissipation(self, k: Kin) -> float:
+        t, stretch, ld, _ = self.tension(k)
+        return (t - self.stiffness * max(stretch, 0.0)) * ld if t > 0 else 0.0
+
+    def output(self, k: Kin) -> np.ndarray:
+        return np.array([self.tension(k)[0]])
+
+
+@dataclass
+class CoulombFriction(ForceElement):
+    """Regularised Coulomb friction on a joint coordinate: ``F = -F_c tanh(q' / v_reg)``."""
+
+    name: str
+    coordinate: Coordinate
+    force: float
+    velocity: float = 1e-3
+
+    def _f(self, k: Kin) -> tuple[float, float, np.ndarray]:
+        _, qd, jac = self.coordinate.rate(k)
+        return -self.force * math.tanh(qd / self.velocity), qd, jac
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        fr, _, jac = self._f(k)
+        f[self.coordinate.cols()] += jac * fr
+
+    def tangent(self, k: Kin):
+        _, qd, jac = self._f(k)
+        slope = self.force / self.velocity / math.cosh(min(qd / self.velocity, 50.0)) ** 2
+        return self.coordinate.cols(), np.zeros((12, 12)), slope * np.outer(jac, jac)
+
+    def dissipation(self, k: Kin) -> float:
+        fr, qd, _ = self._f(k)
+        return -fr * qd
+
+    def output(self, k: Kin) -> np.ndarray:
+        return np.array([self._f(k)[0]])
+
+    def commit(self, k: Kin) -> None:
+        self.coordinate.commit(k)

@@ -1,4 +1,5 @@
-"""Multibody FMU (thin PythonFMU wrapper around :class:`mbd_fmu.linear_system.LinearMultibodySystem`).
+"""Multibody FMU (thin PythonFMU wrapper around :class:`mbd_fmu.linear_system.LinearMultibodySystem`
+for the ``linear`` formulation, :class:`mbd_fmu.simulator.MultibodySimulator` for the others).
 
 Variables (see ``docs/fmu_variables.md``), for each body ``b`` and active degree of freedom
 ``i`` (1 surge ... 6 yaw), and each PTO ``p``:
@@ -12,6 +13,14 @@ Variables (see ``docs/fmu_variables.md``), for each body ``b`` and active degree
 * parameters ``b.mass``, ``b.inertia[j,k]``, ``b.x0[i]``, ``b.v0[i]``, and ``A_inf[k,l]``
   (infinite-frequency added mass in the scene's hydrodynamic DOF numbering, copied from the
   hydrodynamics FMU's calculated parameters of the same name).
+
+Nonlinear formulations add outputs (none with direct feedthrough): ``b.pose[1..6]`` (cg world
+position, rotation vector from equilibrium), ``p.position``, ``p.velocity`` (the PTO's
+coordinate from its neutral value and its rate), for each joint ``j``: ``j.coordinate[k]``,
+``j.rate[k]``, ``j.force[1..3]``, ``j.moment[1..3]`` (reaction on body 2 from body 1 about the
+joint point, world frame); for each force element ``e``: ``e.force[k]``; ``energy.kinetic``,
+``energy.potential``, ``energy.dissipated``, ``energy.external_work``, ``energy.balance``;
+``mbd.constraint_violation``, ``mbd.dof``, ``mbd.redundant_constraints``.
 """
 
 from __future__ import annotations
@@ -19,12 +28,15 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from pythonfmu.enums import Fmi2Status
 
 from fmu_base.slave import VectorSlave, indexed_names, load_spec, matrix_names
 
 from .bodies import RigidBody
 from .force_elements import LinearPTO
 from .linear_system import LinearMultibodySystem
+from .simulator import MultibodySimulator
+from .spec import build_simulator
 
 POS_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
@@ -41,10 +53,13 @@ class MultibodySlave(VectorSlave):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.spec = load_spec(self.resources)
-        self.system: LinearMultibodySystem | None = None
+        self.system: LinearMultibodySystem | MultibodySimulator | None = None
+        self.nonlinear = self.spec.get("multibody", {}).get("formulation", "linear") != "linear"
         self._register_bodies()
         self._register_ptos()
         self._register_added_mass()
+        if self.nonlinear:
+            self._register_nonlinear_outputs()
 
     def _register_bodies(self) -> None:
         dofs = [(b["name"], d) for b in self.spec["bodies"] for d in b["dofs"]]
@@ -72,7 +87,7 @@ class MultibodySlave(VectorSlave):
     def _register_ptos(self) -> None:
         ptos = self.spec["ptos"]
         names = [p["name"] for p in ptos]
-        rot = [p["dof"] >= 3 for p in ptos]
+        rot = [_pto_rotational(p) for p in ptos]
         # Stiffness, damping and force command are inputs (start values from the scenario): a
         # controller may change them between steps; left unconnected they keep their start values.
         for key, start, units, desc in (
@@ -94,6 +109,39 @@ class MultibodySlave(VectorSlave):
                        np.zeros(len(labels) ** 2), unit=units,
                        description="infinite-frequency added mass, set from the hydro FMU's A_inf")
 
+    def _register_nonlinear_outputs(self) -> None:
+        for b in self.spec["bodies"]:
+            n = b["name"]
+            self.add_reals(f"{n}.pose", indexed_names(f"{n}.pose", range(1, 7)), "output", np.zeros(6),
+                           unit=list(POS_UNITS), description="cg world position and rotation vector from equilibrium")
+        ptos = self.spec["ptos"]
+        rot = [_pto_rotational(p) for p in ptos]
+        self.add_reals("pto.position", [f"{p['name']}.position" for p in ptos], "output", np.zeros(len(ptos)),
+                       unit=["rad" if r else "m" for r in rot], description="PTO coordinate from its neutral value")
+        self.add_reals("pto.velocity", [f"{p['name']}.velocity" for p in ptos], "output", np.zeros(len(ptos)),
+                       unit=["rad/s" if r else "m/s" for r in rot], description="PTO coordinate rate")
+        for j in self.spec.get("joints", []):
+            n, units = j["name"], JOINT_COORDINATE_UNITS[j["kind"]]
+            k = range(1, len(units) + 1)
+            if units:
+                self.add_reals(f"{n}.coordinate", indexed_names(f"{n}.coordinate", k), "output", np.zeros(len(units)),
+                               unit=[u for u, _ in units], description="joint coordinate")
+                self.add_reals(f"{n}.rate", indexed_names(f"{n}.rate", k), "output", np.zeros(len(units)),
+                               unit=[u for _, u in units], description="joint coordinate rate")
+            self.add_reals(f"{n}.force", indexed_names(f"{n}.force", (1, 2, 3)), "output", np.zeros(3), unit="N",
+                           description="reaction force on body 2 from body 1 (world frame)")
+            self.add_reals(f"{n}.moment", indexed_names(f"{n}.moment", (1, 2, 3)), "output", np.zeros(3),
+                           unit="N.m", description="reaction moment on body 2 about the joint point (world frame)")
+        for f in self.spec.get("forces", []):
+            n, size = f["name"], _force_outputs(f)
+            self.add_reals(f"{n}.force", indexed_names(f"{n}.force", range(1, size + 1)), "output", np.zeros(size),
+                           unit=_force_units(f), description="force element output (see docs/fmu_variables.md)")
+        for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
+            self.add_reals(f"energy.{key}", [f"energy.{key}"], "output", [0.0], unit="J", description=f"energy: {key}")
+        for key, desc in (("constraint_violation", "largest constraint residual (m or rad)"),
+                          ("dof", "degrees of freedom"), ("redundant_constraints", "redundant constraint equations")):
+            self.add_reals(f"mbd.{key}", [f"mbd.{key}"], "output", [0.0], description=desc)
+
     def _hydro_index(self) -> list[int]:
         """Scene hydrodynamic DOF number (0-based, 6 * hydro body index + dof) of each coordinate."""
         order = {name: i for i, name in enumerate(self.spec["hydro_bodies"])}
@@ -101,6 +149,11 @@ class MultibodySlave(VectorSlave):
 
     # ------------------------------------------------------------------ FMI life cycle
     def exit_initialization_mode(self) -> None:
+        if self.nonlinear:
+            self._build_nonlinear()
+            self._ready = True
+            self.mark_outputs_stale()
+            return
         bodies = [
             RigidBody(
                 name=b["name"],
@@ -127,8 +180,113 @@ class MultibodySlave(VectorSlave):
         self._ready = True
         self.mark_outputs_stale()
 
+    def _build_nonlinear(self) -> None:
+        spec = dict(self.spec)
+        bodies = []
+        for b in spec["bodies"]:
+            b = dict(b)
+            n = b["name"]
+            b["mass"] = float(self.array(f"{n}.mass")[0])
+            b["inertia"] = self.array(f"{n}.inertia").reshape(3, 3).tolist()
+            x0, v0 = list(b["x0"]), list(b["v0"])
+            for k, d in enumerate(b["dofs"]):
+                x0[d], v0[d] = float(self.array(f"{n}.x0")[k]), float(self.array(f"{n}.v0")[k])
+            b["x0"], b["v0"] = x0, v0
+            bodies.append(b)
+        spec["bodies"] = bodies
+        spec["ptos"] = [dict(p, stiffness=float(k), damping=float(c), force_command=float(u))
+                        for p, k, c, u in zip(spec["ptos"], self.array("pto.stiffness"), self.array("pto.damping"),
+                                              self.array("pto.force_command"), strict=True)]
+        m = len(spec["hydro_coordinates"])
+        self.system = build_simulator(spec, self.array("A_inf").reshape(m, m))
+        model = self.system.model
+        self._input_slots = np.array([model.slot_of(b["name"], d) for b in spec["bodies"] for d in b["dofs"]],
+                                     dtype=int)
+        self.array("mbd.dof")[0] = self.system.report.dof
+        self.array("mbd.redundant_constraints")[0] = len(self.system.report.redundant)
+
+    # Nonlinear outputs are computed by groups, only those a host reads (reactions and energy cost a
+    # constraint evaluation each; a master that reads the motion only should not pay for them).
+    def _output_group(self, key: str) -> str | None:
+        if key in ("x", "v") or key.endswith(".pose"):
+            return "motion"
+        if key.startswith("pto."):
+            return "pto"
+        if key.startswith("energy."):
+            return "energy"
+        if key == "mbd.constraint_violation":
+            return "violation"
+        names = {j["name"] for j in self.spec.get("joints", [])}
+        if key.split(".")[0] in names:
+            return "joints"
+        if key.split(".")[0] in {f["name"] for f in self.spec.get("forces", [])}:
+            return "forces"
+        return None
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        if not (self.nonlinear and self._ready):
+            return super().get_real(vrs)
+        if self._outputs_stale:
+            self._fresh: set[str] = set()
+            self._outputs_stale = False
+        if not hasattr(self, "_group_of"):
+            key_of = {id(a): k for k, a in self._arrays.items()}
+            self._group_of = {vr: self._output_group(key_of[id(a)]) for vr, (a, _) in self._slot.items()}
+        for group in {self._group_of[vr] for vr in vrs} - {None} - self._fresh:
+            getattr(self, f"_update_{group}")()
+            self._fresh.add(group)
+        slot = self._slot
+        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+
+    def _update_motion(self) -> None:
+        sim = self.system
+        slots = self._input_slots
+        self.array("x")[:] = sim.displacement()[slots]
+        self.array("v")[:] = sim.velocity()[slots]
+        disp = sim.model.displacement(sim.formulation.pose)
+        for i, b in enumerate(self.spec["bodies"]):
+            self.array(f"{b['name']}.pose")[:] = np.concatenate([sim.formulation.pose.r[i], disp[i, 3:]])
+
+    def _update_pto(self) -> None:
+        if self.system.ptos:
+            out = self.system.pto_outputs()
+            for k, key in enumerate(("position", "velocity", "force", "power")):
+                self.array(f"pto.{key}")[:] = out[:, k]
+
+    def _update_joints(self) -> None:
+        sim = self.system
+        for j, (q, qd), (force, moment) in zip(self.spec.get("joints", []), sim.joint_coordinates(), sim.reactions(),
+                                               strict=True):
+            if len(q):
+                self.array(f"{j['name']}.coordinate")[:] = q
+                self.array(f"{j['name']}.rate")[:] = qd
+            self.array(f"{j['name']}.force")[:] = force
+            self.array(f"{j['name']}.moment")[:] = moment
+
+    def _update_forces(self) -> None:
+        sim = self.system
+        kin = sim.kin
+        for f in self.spec.get("forces", []):
+            parts = [e.output(kin) for e in sim.model.elements
+                     if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
+            self.array(f"{f['name']}.force")[:] = np.concatenate(parts) if parts else 0.0
+
+    def _update_energy(self) -> None:
+        for key, value in self.system.energy().items():
+            self.array(f"energy.{key}")[0] = value
+
+    def _update_violation(self) -> None:
+        self.array("mbd.constraint_violation")[0] = self.system.constraint_violation()
+
+    def _update_nonlinear(self) -> None:
+        for group in ("motion", "pto", "joints", "forces", "energy", "violation"):
+            getattr(self, f"_update_{group}")()
+
     def update_outputs(self) -> None:
         assert self.system is not None
+        if self.nonlinear:
+            self._update_nonlinear()
+            return
         self.array("x")[:] = self.system.q
         self.array("v")[:] = self.system.qd
         if self.system.ptos:
@@ -136,9 +294,70 @@ class MultibodySlave(VectorSlave):
             self.array("pto.power")[:] = self.system.pto_powers()
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if self.nonlinear:
+            return self._step_nonlinear(step_size)
         if self.system.ptos:
             self.system.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
                                          self.array("pto.force_command"))
         self.system.step(step_size, self.array("F"))
         self.mark_outputs_stale()
         return True
+
+    def _step_nonlinear(self, step_size: float) -> bool:
+        sim = self.system
+        if sim.ptos:
+            sim.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
+                                 self.array("pto.force_command"))
+        inputs = np.zeros(sim.model.n)
+        inputs[self._input_slots] = self.array("F")
+        try:
+            sim.advance(step_size, inputs)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            self.log(f"multibody step failed at t = {sim.time:g} s: {exc}", Fmi2Status.error)
+            return False
+        self.mark_outputs_stale()
+        return True
+
+
+JOINT_COORDINATE_UNITS = {
+    "fixed": [], "revolute": [("rad", "rad/s")], "prismatic": [("m", "m/s")],
+    "cylindrical": [("m", "m/s"), ("rad", "rad/s")], "universal": [("rad", "rad/s")] * 3,
+    "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
+    "distance": [("m", "m/s")],
+}
+
+
+def _force_outputs(f: dict) -> int:
+    """Number of outputs of a force element: tension or force (1), mooring wrench (6), catenary
+    fairlead force (3), bushing: one per stiff or damped relative DOF."""
+    if f["kind"] == "mooring":
+        return 6
+    if f["kind"] == "catenary":
+        return 3
+    if f["kind"] == "bushing":
+        return sum(1 for k, c in zip(f["stiffness"], f["damping"], strict=True) if k or c)
+    return 1
+
+
+def _force_units(f: dict) -> list[str]:
+    rot = f["kind"] in ("rotary_spring_damper", "friction") and f.get("rotational", True)
+    if f["kind"] == "mooring":
+        return ["N"] * 3 + ["N.m"] * 3
+    if f["kind"] == "catenary":
+        return ["N"] * 3
+    if f["kind"] == "bushing":
+        return [("N.m" if d >= 3 else "N") for d, (k, c) in enumerate(zip(f["stiffness"], f["damping"], strict=True))
+                if k or c]
+    return ["N.m" if rot else "N"]
+
+
+def _pto_rotational(p: dict) -> bool:
+    """True if a PTO acts on an angle (rotational units)."""
+    c = p.get("coordinate", {})
+    if c.get("kind") == "joint":
+        return c.get("rotational", False)
+    if c.get("kind") in ("body", "relative"):
+        return int(c["dof"]) >= 3
+    if c.get("kind") == "points":
+        return False
+    return p["dof"] >= 3

@@ -99,6 +99,9 @@ class LinearModel:
     excitation: np.ndarray
     stiffness: np.ndarray
     system: object
+    basis: np.ndarray | None = None  # constrained scenes: motion = basis @ reduced solution
+    coordinates: list | None = None
+    pto_rows: dict | None = None  # constrained scenes: PTO name -> (coordinate Jacobian row, damping)
 
 
 def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database",
@@ -110,6 +113,8 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
     scenario's macro step; above ``omega_cut`` A = A_inf and B = 0).
     """
     omega = np.asarray(omega, dtype=float)
+    if scene.scenario.formulation != "linear":
+        return _constrained_linear_model(scene, omega, radiation=radiation, dt=dt, omega_cut=omega_cut)
     system = scene.multibody_system(added_mass=False)
     idx = scene.hydro_index()
     rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
@@ -142,12 +147,58 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
     return LinearModel(omega, z, f, stiffness, system)
 
 
+def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str, dt: float | None,
+                              omega_cut: float) -> LinearModel:
+    """Z(omega) of a scene with joints, from the multibody linearisation (``mbd_fmu.linearize``):
+    ``Z_r = P^T [-w^2 (M + A) + i w (B + D) + C_hs + K] P`` on the null space ``P`` of the constraints,
+    ``K`` including the geometric stiffness of the static loads (gravity, buoyancy) and reactions."""
+    from mbd_fmu.linearize import linearize
+
+    sim = scene.multibody_simulator(added_mass=False)
+    model = sim.model
+    lin = linearize(model)
+    hdb = scene.hdb
+    switches = scene.scenario.hydro
+    idx = scene.hydro_index()
+    rows = [model.slot_of(b, d) for b, d in scene.hydro_coordinates]
+    A, B, X = hdb.interpolate(omega, np.radians(scene.scenario.waves.heading_deg))
+    if radiation == "impulse_response":
+        A, B = radiation_coefficients_from_irf(
+            scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
+    else:
+        A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
+    if not switches.radiation:
+        A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
+        B = np.zeros_like(B)
+    stiffness = lin.stiffness.copy()
+    if switches.hydrostatics:
+        stiffness[np.ix_(rows, rows)] += block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)]
+    w = omega[:, None, None]
+    z = -w**2 * lin.mass + 1j * w * lin.damping + stiffness
+    z[np.ix_(np.arange(len(omega)), rows, rows)] += -w**2 * A + 1j * w * B
+    f = np.zeros((len(omega), model.n), complex)
+    if switches.excitation:
+        f[:, rows] = X[:, idx]
+    p = lin.null_space
+    kin = model.kin(model.reference, np.zeros(model.n))
+    pto_rows = {}
+    for pto in sim.ptos:
+        full = np.zeros(6 * (model.N + 1))
+        full[pto.coordinate.cols()] += pto.coordinate.evaluate(kin)[1]
+        pto_rows[pto.name] = (full[model.sel], pto.damping)
+    return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows)
+
+
 def solve(
     scene: Scene, omega: np.ndarray, *, radiation: str = "database", dt: float | None = None
 ) -> FrequencyResponse:
     """Response of ``scene`` at ``omega`` (rad/s) to unit-amplitude waves at the scene's heading."""
     model = linear_model(scene, omega, radiation=radiation, dt=dt)
     rao = np.linalg.solve(model.impedance, model.excitation[..., None])[..., 0]
+    if model.basis is not None:
+        rao = rao @ model.basis.T
+        power = {name: 0.5 * model.omega**2 * c * np.abs(rao @ row) ** 2 for name, (row, c) in model.pto_rows.items()}
+        return FrequencyResponse(model.omega, model.coordinates, rao, power)
     system = model.system
     power = {}
     for p in system.ptos:

@@ -19,6 +19,10 @@ from .schema import identifier, non_negative, option, positive
 
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+FORMULATIONS = ("auto", "linear", "index3", "index1", "nullspace")
+INTEGRATORS = ("", "generalized_alpha", "rk4", "heun", "euler")
+JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
+FORCE_KINDS = ("spring_damper", "rotary_spring_damper", "bushing", "rope", "mooring", "catenary", "friction")
 
 
 def _at_least_one(value: float) -> str | None:
@@ -269,17 +273,120 @@ class BodySection:
         factory=lambda: [0.0] * 6, unit="m, rad", doc="initial displacement from equilibrium (6 values)")
     initial_velocity: list[float] = option(
         factory=lambda: [0.0] * 6, unit="m/s, rad/s", doc="initial velocity (6 values)")
+    point_mass: bool = option(False, doc="a 3-DOF point mass (translations only; nonlinear formulations)")
+    buoyancy: float | None = option(
+        None, unit="N", check=non_negative,
+        doc="constant upward force at the cg in nonlinear formulations; default rho g V (with the moment of "
+            "the centre of buoyancy) for hydrodynamic bodies, 0 for the others (e.g. m g for a neutrally "
+            "buoyant link arm)")
 
 
 @dataclass
 class PtoSection:
-    """Linear power take-off between a body's degree of freedom and the ground."""
+    """Power take-off: a body DOF to the ground (default), a joint coordinate, two points, or a relative DOF."""
 
     name: str = option(check=identifier, doc="PTO name (used in FMU variable names)")
     body: str = option(doc="body the PTO acts on")
-    dof: str = option(choices=DOFS, doc="degree of freedom it acts on")
+    dof: str = option("", choices=("",) + DOFS,
+                      doc="degree of freedom it acts on (body DOF to the ground, or relative DOF with `body2`)")
     stiffness: float = option(0.0, unit="N/m or N m/rad", check=non_negative, doc="spring stiffness")
     damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative, doc="damping (power absorption)")
+    joint: str = option("", doc="act on this joint's coordinate (revolute angle, prismatic displacement) "
+                                "instead of a body DOF (nonlinear formulations)")
+    body2: str = option("", doc="second body: with `point`/`point2` a point-to-point PTO, otherwise the PTO acts "
+                                "on the relative `dof` of `body2` with respect to `body` at `position`")
+    point: list[float] = option(factory=list, unit="m", doc="attachment point on `body` (world, at equilibrium)")
+    point2: list[float] = option(factory=list, unit="m",
+                                 doc="attachment point on `body2` or on the ground (world, at equilibrium)")
+    position: list[float] = option(factory=list, unit="m", doc="origin of the relative-DOF frame (world)")
+
+
+@dataclass
+class MultibodySection:
+    """Multibody formulation and integrator."""
+
+    formulation: str = option(
+        "auto", choices=FORMULATIONS,
+        doc="`linear` (small motions, exact step), `index3` (Lagrange multipliers, generalised-alpha), `index1` "
+            "(acceleration level with projection, Runge-Kutta), `nullspace` (reduced ODE, Runge-Kutta); `auto`: "
+            "`linear` without joints, forces, drivers, point masses or non-DOF PTOs, else `index3`")
+    integrator: str = option("", choices=INTEGRATORS,
+                             doc="default `generalized_alpha` for index3, `rk4` for index1 and nullspace")
+    spectral_radius: float = option(0.8, check=lambda v: None if 0 <= v <= 1 else "must be in [0, 1]",
+                                    doc="generalised-alpha spectral radius at infinite frequency (1: no numerical "
+                                        "dissipation)")
+    max_step: float = option(0.0, unit="s", check=non_negative,
+                             doc="largest integrator step; 0 = one step per macro step")
+    newton_tolerance: float = option(1e-10, check=positive, doc="Newton tolerance on positions (relative to "
+                                                                 "max(1 m, largest cg coordinate))")
+    gravity: bool = option(True, doc="apply gravity at the centres of gravity and the bodies' buoyancy "
+                                     "(nonlinear formulations)")
+
+
+@dataclass
+class JointSection:
+    """A joint between two bodies or a body and the ground (nonlinear formulations)."""
+
+    name: str = option(check=identifier, doc="joint name (used in FMU variable names)")
+    kind: str = option(choices=JOINT_KINDS, doc="joint kind (see docs/multibody.md)")
+    body2: str = option(doc="second body")
+    position: tuple[float, float, float] = option(unit="m", doc="joint point (world, at equilibrium); for "
+                                                                "`distance` the point on body1")
+    body1: str = option("ground", doc="first body, or `ground`")
+    axis: tuple[float, float, float] = option((0.0, 0.0, 1.0), doc="joint axis (revolute, prismatic, cylindrical), "
+                                                                  "plane normal (planar), first axis (universal)")
+    axis2: list[float] = option(factory=list, doc="universal: the cross axis on body2; others: x axis of the joint "
+                                                 "frame (optional)")
+    position2: list[float] = option(factory=list, unit="m", doc="distance joint: the point on body2")
+    locked: bool = option(False, doc="hold the joint fixed at the bodies' initial relative pose")
+
+
+@dataclass
+class ForceSection:
+    """A force element (nonlinear formulations)."""
+
+    name: str = option(check=identifier, doc="element name (used in FMU variable names)")
+    kind: str = option(choices=FORCE_KINDS, doc="element kind (see docs/multibody.md)")
+    body: str = option("", doc="body of a mooring or catenary line")
+    body1: str = option("ground", doc="first body (spring_damper, rope, bushing), or `ground`")
+    body2: str = option("", doc="second body (spring_damper, rope, bushing)")
+    point1: list[float] = option(factory=list, unit="m", doc="attachment on body1 (world, at equilibrium)")
+    point2: list[float] = option(factory=list, unit="m", doc="attachment on body2 (world, at equilibrium)")
+    joint: str = option("", doc="joint of a rotary_spring_damper or friction element")
+    stiffness: float = option(0.0, unit="N/m or N m/rad", check=non_negative, doc="scalar stiffness")
+    damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative, doc="scalar damping")
+    free_length: float | None = option(None, unit="m", check=non_negative,
+                                       doc="spring/rope free length; default the length at equilibrium")
+    stiffness_matrix: list[float] = option(factory=list, doc="bushing: 6 stiffnesses on relative surge..yaw; "
+                                                           "mooring: 6 (diagonal) or 36 values (row-major)")
+    damping_matrix: list[float] = option(factory=list, doc="as stiffness_matrix, for damping")
+    position: list[float] = option(factory=list, unit="m", doc="bushing frame origin (world)")
+    fairlead: list[float] = option(factory=list, unit="m", doc="catenary: fairlead on the body (world, equilibrium)")
+    anchor: list[float] = option(factory=list, unit="m", doc="catenary: anchor on the sea bed (world)")
+    length: float = option(0.0, unit="m", check=non_negative, doc="catenary: unstretched length")
+    weight: float = option(0.0, unit="N/m", check=non_negative, doc="catenary: submerged weight per length")
+    ea: float = option(0.0, unit="N", check=non_negative, doc="catenary: axial stiffness")
+    force: float = option(0.0, unit="N or N m", check=non_negative, doc="friction: Coulomb force or torque")
+    velocity: float = option(1e-3, unit="m/s or rad/s", check=positive, doc="friction: regularisation velocity")
+
+
+@dataclass
+class DriverSection:
+    """Prescribed motion of a joint coordinate or a body DOF (nonlinear formulations)."""
+
+    name: str = option(check=identifier, doc="driver name")
+    joint: str = option("", doc="joint whose (first) coordinate is prescribed")
+    body: str = option("", doc="or: body whose DOF `dof` is prescribed (displacement from equilibrium)")
+    dof: str = option("", choices=("",) + DOFS, doc="body DOF")
+    level: str = option("position", choices=("position", "velocity"), doc="prescribe the position or the velocity")
+    function: str = option("harmonic", choices=("harmonic", "table"), doc="`harmonic`: offset + amplitude "
+                                                                        "sin(2 pi t / period + phase); `table`")
+    amplitude: float = option(0.0, doc="harmonic amplitude (m, rad, m/s or rad/s)")
+    period: float = option(0.0, unit="s", check=non_negative, doc="harmonic period (0: constant)")
+    phase_deg: float = option(0.0, unit="deg", doc="harmonic phase")
+    offset: float = option(0.0, doc="harmonic offset")
+    times: list[float] = option(factory=list, unit="s", doc="table times (cubic spline)")
+    values: list[float] = option(factory=list, doc="table values")
 
 
 @dataclass
@@ -358,6 +465,10 @@ class Scenario:
     waves: WavesSection = field(default_factory=WavesSection)
     hydro: HydroSection = field(default_factory=HydroSection)
     ptos: list[PtoSection] = field(default_factory=list, metadata={"doc": "power take-offs"})
+    multibody: MultibodySection = field(default_factory=MultibodySection)
+    joints: list[JointSection] = field(default_factory=list, metadata={"doc": "joints"})
+    forces: list[ForceSection] = field(default_factory=list, metadata={"doc": "force elements"})
+    drivers: list[DriverSection] = field(default_factory=list, metadata={"doc": "prescribed motion"})
     rao: RaoSection = field(default_factory=RaoSection)
     control: ControlSection = field(default_factory=ControlSection)
     sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
@@ -387,6 +498,17 @@ class Scenario:
     @property
     def hydro_bodies(self) -> list[BodySection]:
         return [b for b in self.bodies if b.hydro]
+
+    @property
+    def formulation(self) -> str:
+        """The multibody formulation, ``auto`` resolved."""
+        f = self.multibody.formulation
+        if f != "auto":
+            return f
+        simple = (not self.joints and not self.forces and not self.drivers
+                  and not any(b.point_mass for b in self.bodies)
+                  and all(not (p.joint or p.body2 or p.point) for p in self.ptos))
+        return "linear" if simple else "index3"
 
     @property
     def ramp_time(self) -> float:
@@ -458,8 +580,11 @@ def _check(s: Scenario) -> None:
         where = f"{f}: ptos[{i}] ({p.name})"
         if p.body not in names:
             raise ScenarioError(f"{where}: body {p.body!r} is not defined (bodies: {', '.join(names)})")
-        if p.dof not in names[p.body].dofs:
+        if not (p.joint or p.point) and not p.dof:
+            raise ScenarioError(f"{where}: give the dof the PTO acts on (or a joint, or point and point2)")
+        if not (p.joint or p.body2 or p.point) and p.dof not in names[p.body].dofs:
             raise ScenarioError(f"{where}: dof {p.dof!r} is not active on body {p.body!r}")
+    _check_multibody(s, f, names)
     _check_waves(s)
     _check_hydro(s)
     if s.hydro.database and not s.resolve(s.hydro.database).is_file():
@@ -584,6 +709,98 @@ def _check_hydro(s: Scenario) -> None:
             values = getattr(b, key)
             if values is not None and any(v < 0 for v in values):
                 raise ScenarioError(f"{f}: bodies[{i}] ({b.name}): {key} must not be negative")
+
+
+def _check_multibody(s: Scenario, f: str, names: dict) -> None:
+    """Joints, force elements, drivers and multibody PTOs: names, references, required keys."""
+    bodies_or_ground = set(names) | {"ground"}
+    _unique(f, "joints/forces/drivers/ptos/bodies",
+            [b.name for b in s.bodies] + [x.name for x in s.joints + s.forces + s.drivers + s.ptos])
+    joints = {j.name: j for j in s.joints}
+
+    def body(where: str, key: str, value: str, ground: bool = True) -> None:
+        allowed = bodies_or_ground if ground else set(names)
+        if value not in allowed:
+            raise ScenarioError(f"{where}: {key} {value!r} is not a defined body"
+                                f"{' or ground' if ground else ''} (bodies: {', '.join(names)})")
+
+    def vec(where: str, key: str, value: list, n: int = 3) -> None:
+        if len(value) != n:
+            raise ScenarioError(f"{where}: {key} needs {n} values (x, y, z), got {len(value)}")
+
+    for i, j in enumerate(s.joints):
+        where = f"{f}: joints[{i}] ({j.name})"
+        body(where, "body1", j.body1)
+        body(where, "body2", j.body2, ground=False)
+        if j.body1 == j.body2:
+            raise ScenarioError(f"{where}: body1 and body2 are the same body {j.body2!r}")
+        if not any(j.axis):
+            raise ScenarioError(f"{where}: axis must not be zero")
+        if j.axis2:
+            vec(where, "axis2", j.axis2)
+        if j.kind == "distance":
+            vec(where, "position2", j.position2)
+        if j.kind == "universal" and not j.axis2:
+            raise ScenarioError(f"{where}: a universal joint needs axis2 (the cross axis on body2)")
+    for i, e in enumerate(s.forces):
+        where = f"{f}: forces[{i}] ({e.name})"
+        if e.kind in ("spring_damper", "rope", "bushing"):
+            body(where, "body1", e.body1)
+            body(where, "body2", e.body2, ground=False)
+        if e.kind in ("spring_damper", "rope"):
+            vec(where, "point1", e.point1)
+            vec(where, "point2", e.point2)
+        if e.kind in ("rotary_spring_damper", "friction") and e.joint not in joints:
+            raise ScenarioError(f"{where}: joint {e.joint!r} is not defined (joints: {', '.join(joints) or 'none'})")
+        if e.kind in ("bushing", "mooring"):
+            if e.kind == "bushing":
+                vec(where, "position", e.position)
+            sizes = (6,) if e.kind == "bushing" else (6, 36)
+            for key in ("stiffness_matrix", "damping_matrix"):
+                value = getattr(e, key)
+                if value and len(value) not in sizes:
+                    raise ScenarioError(f"{where}: {key} needs {' or '.join(map(str, sizes))} values, got {len(value)}")
+        if e.kind in ("mooring", "catenary"):
+            body(where, "body", e.body, ground=False)
+        if e.kind == "catenary":
+            vec(where, "fairlead", e.fairlead)
+            vec(where, "anchor", e.anchor)
+            for key in ("length", "weight", "ea"):
+                if getattr(e, key) <= 0:
+                    raise ScenarioError(f"{where}: a catenary line needs a positive {key}")
+    for i, d in enumerate(s.drivers):
+        where = f"{f}: drivers[{i}] ({d.name})"
+        if bool(d.joint) == bool(d.body):
+            raise ScenarioError(f"{where}: give either joint or body (with dof)")
+        if d.joint and d.joint not in joints:
+            raise ScenarioError(f"{where}: joint {d.joint!r} is not defined")
+        if d.body:
+            body(where, "body", d.body, ground=False)
+            if d.dof not in names[d.body].dofs:
+                raise ScenarioError(f"{where}: dof {d.dof!r} is not active on body {d.body!r}")
+        if d.function == "table" and (len(d.times) < 2 or len(d.times) != len(d.values)):
+            raise ScenarioError(f"{where}: a table needs times and values of the same length (at least 2)")
+    for i, p in enumerate(s.ptos):
+        where = f"{f}: ptos[{i}] ({p.name})"
+        if p.joint and p.joint not in joints:
+            raise ScenarioError(f"{where}: joint {p.joint!r} is not defined (joints: {', '.join(joints) or 'none'})")
+        if p.joint and joints[p.joint].kind in ("fixed", "spherical", "universal"):
+            raise ScenarioError(f"{where}: a PTO needs a joint with a scalar coordinate, not a {joints[p.joint].kind}")
+        if p.body2:
+            body(where, "body2", p.body2)
+        if p.point or p.point2:
+            vec(where, "point", p.point)
+            vec(where, "point2", p.point2)
+        elif p.body2:
+            vec(where, "position", p.position)
+    if s.formulation == "linear" and (s.joints or s.forces or s.drivers or any(b.point_mass for b in s.bodies)
+                                      or any(p.joint or p.body2 or p.point for p in s.ptos)):
+        raise ScenarioError(f"{f}: multibody.formulation = 'linear' supports bodies on selected DOFs with PTOs to the "
+                            "ground only; use index3, index1 or nullspace for joints, forces, drivers and point masses")
+    for i, b in enumerate(s.bodies):
+        if b.point_mass and any(d in b.dofs for d in ("roll", "pitch", "yaw")):
+            raise ScenarioError(f"{f}: bodies[{i}] ({b.name}): a point mass has no rotational dofs; "
+                                "set dofs to translations only")
 
 
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:

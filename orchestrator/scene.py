@@ -163,7 +163,8 @@ class Scene:
         ]
 
     def ptos(self) -> list[LinearPTO]:
-        return [LinearPTO(p.name, p.body, DOFS.index(p.dof), p.stiffness, p.damping) for p in self.scenario.ptos]
+        return [LinearPTO(p.name, p.body, DOFS.index(p.dof), p.stiffness, p.damping) for p in self.scenario.ptos
+                if not (p.joint or p.body2 or p.point)]
 
     def sea_spec(self, files: dict[str, str] | None = None) -> SeaSpec:
         """The sea as :class:`SeaSpec`; data files by absolute path, or renamed by ``files``."""
@@ -299,7 +300,94 @@ class Scene:
                          "viscous": h.viscous},
         }
 
+    def static_load(self, b: BodySection) -> list[float]:
+        """Constant world wrench at the cg of the nonlinear models: buoyancy (and its moment about the cg)."""
+        if b.buoyancy is not None or not b.hydro:
+            return [0.0, 0.0, b.buoyancy or 0.0, 0.0, 0.0, 0.0]
+        i = self.hydro_bodies.index(b.name)
+        hdb = self.hdb
+        force = np.array([0.0, 0.0, hdb.rho * hdb.g * float(hdb.displaced_volume[i])])
+        moment = np.cross(np.asarray(hdb.cb[i]) - np.asarray(b.cg), force)
+        return force.tolist() + moment.tolist()
+
     def mbd_spec(self) -> dict:
+        spec = self._linear_mbd_spec()
+        s = self.scenario
+        if s.formulation == "linear":
+            return spec
+        mb = s.multibody
+        spec["multibody"] = {"formulation": s.formulation, "integrator": mb.integrator,
+                             "spectral_radius": mb.spectral_radius, "max_step": mb.max_step,
+                             "newton_tolerance": mb.newton_tolerance}
+        spec["gravity"] = [0.0, 0.0, -s.environment.g] if mb.gravity else [0.0, 0.0, 0.0]
+        for b, out in zip(s.bodies, spec["bodies"], strict=True):
+            out["point_mass"] = b.point_mass
+            out["static_load"] = self.static_load(b) if mb.gravity else [0.0] * 6
+        spec["joints"] = [
+            {"name": j.name, "kind": j.kind, "body1": None if j.body1 == "ground" else j.body1, "body2": j.body2,
+             "position": list(j.position), "axis": list(j.axis), "axis2": list(j.axis2) or None,
+             "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
+        kinds = {j.name: j.kind for j in s.joints}
+        spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
+        spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
+        joints = {j.name: j for j in s.joints}
+        for p, out in zip(s.ptos, spec["ptos"], strict=True):
+            out["coordinate"] = self._pto_coordinate(p, joints)
+        return spec
+
+    @staticmethod
+    def _ground(name: str) -> str | None:
+        return None if name in ("", "ground") else name
+
+    def _force_spec(self, e) -> dict:
+        def matrix(values: list[float]) -> list[float] | None:
+            if not values:
+                return None
+            return np.diag(values).ravel().tolist() if len(values) == 6 else list(values)
+
+        d = {"name": e.name, "kind": e.kind, "body1": self._ground(e.body1), "body2": self._ground(e.body2),
+             "point1": list(e.point1), "point2": list(e.point2), "joint": e.joint, "stiffness": e.stiffness,
+             "damping": e.damping, "free_length": e.free_length, "body": e.body, "position": list(e.position),
+             "fairlead": list(e.fairlead), "anchor": list(e.anchor), "length": e.length, "weight": e.weight,
+             "ea": e.ea, "force": e.force, "velocity": e.velocity}
+        if e.kind == "bushing":
+            d["stiffness"] = list(e.stiffness_matrix) or [0.0] * 6
+            d["damping"] = list(e.damping_matrix) or [0.0] * 6
+        if e.kind == "mooring":
+            d["stiffness"] = matrix(e.stiffness_matrix) or [0.0] * 36
+            d["damping"] = matrix(e.damping_matrix)
+        return d
+
+    @staticmethod
+    def _driver_spec(d) -> dict:
+        coordinate = ({"kind": "joint", "joint": d.joint, "index": 0} if d.joint
+                      else {"kind": "body", "body": d.body, "dof": DOFS.index(d.dof)})
+        function = {"kind": d.function, "amplitude": d.amplitude, "period": d.period,
+                    "phase": math.radians(d.phase_deg), "offset": d.offset, "times": list(d.times),
+                    "values": list(d.values)}
+        return {"name": d.name, "coordinate": coordinate, "function": function, "level": d.level}
+
+    def _pto_coordinate(self, p, joints: dict) -> dict:
+        if p.joint:
+            return {"kind": "joint", "joint": p.joint, "index": 0,
+                    "rotational": joints[p.joint].kind in ("revolute",)}
+        if p.point:
+            return {"kind": "points", "body1": p.body, "point1": list(p.point),
+                    "body2": self._ground(p.body2), "point2": list(p.point2)}
+        if p.body2:
+            return {"kind": "relative", "body1": self._ground(p.body2), "body2": p.body,
+                    "position": list(p.position), "dof": DOFS.index(p.dof)}
+        return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
+
+    def multibody_simulator(self, *, added_mass: bool = True):
+        """The nonlinear multibody model of the scene, assembled (for linearisation and tests)."""
+        from mbd_fmu.spec import build_simulator
+
+        idx = self.hydro_index()
+        a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)] if added_mass else np.zeros((len(idx), len(idx)))
+        return build_simulator(self.mbd_spec(), a_inf)
+
+    def _linear_mbd_spec(self) -> dict:
         s = self.scenario
         return {
             "kind": MBD,
@@ -309,8 +397,8 @@ class Scene:
                  "x0": list(b.initial_displacement), "v0": list(b.initial_velocity)}
                 for b in s.bodies
             ],
-            "ptos": [{"name": p.name, "body": p.body, "dof": DOFS.index(p.dof), "stiffness": p.stiffness,
-                      "damping": p.damping} for p in s.ptos],
+            "ptos": [{"name": p.name, "body": p.body, "dof": DOFS.index(p.dof) if p.dof else 0,
+                      "stiffness": p.stiffness, "damping": p.damping} for p in s.ptos],
             "hydro_bodies": self.hydro_bodies,
             "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
         }

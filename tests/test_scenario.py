@@ -97,7 +97,11 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t + "\n[sweep]\nperiods = [5.0, -1.0]\n", ["sweep.periods must be positive"]),
 ])
 def test_invalid_scenarios_name_file_and_key(tmp_path, edit, fragments) -> None:
-    path = write(tmp_path, edit(BASE))
+    assert_rejected(write(tmp_path, edit(BASE)), fragments)
+
+
+def assert_rejected(path, fragments: list[str]) -> None:
+    """Loading ``path`` raises a ScenarioError that names the file and contains every fragment."""
     with pytest.raises(ScenarioError) as info:
         load_scenario(path)
     message = str(info.value)

@@ -1,0 +1,473 @@
+"""Formulations of the constrained equations of motion and their time stepping.
+
+All three share :class:`Formulation`'s interface (``initialize``, ``set_inputs``, ``step``) and
+state (pose ``q``, slot velocities ``v``, accelerations ``v'`` and multipliers ``lambda`` of the
+kept constraint rows, time ``t``); the external input force is held constant during a step.
+
+* :class:`Index3` - the index-3 DAE ``M v' + C^T lambda = f``, ``Phi(q, t) = 0`` by the Lie
+  group generalised-alpha method (:mod:`mbd_fmu.integrators`): Newton iterations on
+  ``(v'_{n+1}, lambda_{n+1})`` with the constraint equations scaled by ``1/(h^2 beta zeta)``
+  (Bottasso, Bauchau & Cardona 2007), iteration matrix ``[[M + h gamma zeta D + h^2 beta zeta K,
+  C^T], [C, 0]]`` (``K``, ``D`` the force elements' tangents; modified Newton, refreshed when
+  the contraction rate exceeds 0.5, and kept across steps of the same size), convergence judged
+  on the largest correction of positions and velocities (tolerance ``newton_tolerance`` times
+  max(1, largest cg coordinate, largest velocity)) with the contraction-rate estimate of Hairer &
+  Wanner. Positions satisfy the constraints to the Newton
+  tolerance at every step (no drift). Order 2 in q and v.
+* :class:`Index1` - the acceleration-level (index-1) DAE solved for ``(v', lambda)`` from the
+  saddle-point system ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``, integrated by an explicit
+  RKMK method, followed by a projection of the positions (Newton, mass metric) and velocities
+  onto the constraint manifold after every step. Order of the RK method.
+* :class:`NullSpace` - the reduced ODE (Maggi / generalised coordinate partitioning,
+  Wehage & Haug 1982): the velocities split into ``n - r`` independent and ``r`` dependent
+  slots chosen by QR with column pivoting of ``C``; ``v = P v_s + sigma`` with
+  ``P = [-C_d^-1 C_s; I]``; the ODE ``P^T M P v_s' = P^T (f - M rho)`` (``rho``: the particular
+  solution of ``C v' = gamma`` with ``v_s' = 0``) is integrated by RKMK, the dependent positions
+  are recovered by Newton iterations on ``Phi = 0`` with the independent ones held. The
+  partition is re-chosen between steps when ``C_d`` degrades. Order of the RK method.
+
+Restart at macro-step boundaries (:meth:`Formulation.set_inputs`): a new held input makes the
+acceleration jump. The explicit one-step methods need nothing. Generalised-alpha carries the
+algorithmic acceleration ``a``, which approximates ``v'(t + Delta h)`` (``Delta = alpha_m -
+alpha_f``); on a jump it is reset from the new consistent acceleration and its derivative,
+``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` by a central difference
+of the consistent acceleration along the motion. This keeps second order when the input
+changes every step (``restart="consistent"``); ``"acceleration"`` (``a = v'``) and ``"none"``
+(keep ``a``) are available for comparison. When the shift is larger than half the acceleration
+(stiff components, ``h |lambda| >> 1``, e.g. regularised friction) the Taylor shift is meaningless
+and ``a = v'`` is used for that restart.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import lu_factor, lu_solve, qr
+from scipy.sparse import csc_matrix
+from scipy.sparse.linalg import splu
+
+from .assembly import independent_rows
+from .integrators import TABLEAUS, GeneralizedAlphaCoefficients, rkmk_step
+from .kinematics import Pose
+from .model import MultibodyModel
+
+FORMULATIONS = ("index3", "index1", "nullspace")
+RESTARTS = ("consistent", "acceleration", "none")
+
+
+class Factorized:
+    """A square matrix ready for repeated solves: explicit inverse when small (cheapest per solve in
+    numpy), sparse LU (SuperLU) when large and sparse (chains, arrays of bodies), dense LU otherwise."""
+
+    SMALL = 48
+
+    def __init__(self, a: np.ndarray) -> None:
+        n = a.shape[0]
+        self.kind = "inv" if n <= self.SMALL else ("sparse" if np.count_nonzero(a) < 0.1 * n * n else "lu")
+        if self.kind == "inv":
+            self.data = np.linalg.inv(a)
+        elif self.kind == "sparse":
+            self.matrix = csc_matrix(a)
+            self.data = splu(self.matrix)
+        else:
+            self.data = lu_factor(a, check_finite=False)
+
+    def __getstate__(self) -> dict:
+        """Picklable (FMU state): SuperLU factors are rebuilt from the kept matrix, identically."""
+        state = self.__dict__.copy()
+        if self.kind == "sparse":
+            state["data"] = None
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        if self.kind == "sparse":
+            self.data = splu(self.matrix)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        if self.kind == "inv":
+            return self.data @ b
+        if self.kind == "sparse":
+            return self.data.solve(b)
+        return lu_solve(self.data, b, check_finite=False)
+
+
+class ConvergenceError(RuntimeError):
+    """A Newton iteration did not converge (the message says where and how far)."""
+
+
+@dataclass
+class Settings:
+    """Formulation and integrator settings (see the module docstring)."""
+
+    formulation: str = "index3"
+    integrator: str = ""
+    spectral_radius: float = 0.8
+    newton_tolerance: float = 1e-10
+    max_iterations: int = 30
+    restart: str = "consistent"
+
+    def __post_init__(self) -> None:
+        if self.formulation not in FORMULATIONS:
+            raise ValueError(f"unknown formulation {self.formulation!r}; expected one of {', '.join(FORMULATIONS)}")
+        if not self.integrator:
+            self.integrator = "generalized_alpha" if self.formulation == "index3" else "rk4"
+        if self.formulation == "index3" and self.integrator != "generalized_alpha":
+            raise ValueError("the index-3 formulation is integrated by 'generalized_alpha'")
+        if self.formulation != "index3" and self.integrator not in TABLEAUS:
+            raise ValueError(f"integrator {self.integrator!r} is not one of {', '.join(TABLEAUS)} "
+                             f"(the explicit Runge-Kutta methods of the {self.formulation} formulation)")
+        if self.restart not in RESTARTS:
+            raise ValueError(f"restart must be one of {', '.join(RESTARTS)}")
+        GeneralizedAlphaCoefficients(self.spectral_radius)
+
+
+class Formulation:
+    """Shared state and the consistent (index-1) acceleration."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        self.model = model
+        self.settings = settings
+        self.inputs = np.zeros(model.n)
+        self.newton_iterations = 0
+        self.newton_retries = 0
+        self.steps = 0
+        self.row_changes = 0
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
+        if inputs is not None:
+            self.inputs = np.array(inputs, float)
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
+        scale = np.max(np.abs(self.model.cg)) if self.model.N else 1.0
+        self.length = max(1.0, float(scale))
+
+    def set_inputs(self, inputs: np.ndarray) -> bool:
+        """Hold ``inputs`` from now on; returns True if they changed (a restart was made)."""
+        inputs = np.asarray(inputs, float)
+        if np.array_equal(inputs, self.inputs):
+            return False
+        self.inputs = inputs.copy()
+        self.on_restart()
+        return True
+
+    def on_restart(self) -> None:
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
+
+    def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Consistent ``v'`` and ``lambda`` (kept rows) from the saddle-point system."""
+        m = self.model
+        k = m.kin(pose, v, t)
+        mass = m.mass_matrix(pose)
+        f = m.forces(k, self.inputs)
+        ev = m.constraint(k)
+        r = ev.phi.size
+        if r == 0:
+            return np.linalg.solve(mass, f), np.zeros(0)
+        kkt = np.block([[mass, ev.jac.T], [ev.jac, np.zeros((r, r))]])
+        x = np.linalg.solve(kkt, np.concatenate([f, ev.gamma]))
+        return x[: m.n], x[m.n:]
+
+    def step(self, h: float) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def reselect_rows(self) -> None:
+        """With redundant constraints, re-choose the independent rows at the current pose when the kept
+        set has become less than half as well conditioned as the best one (the best set changes along
+        the motion, e.g. in Bricard's linkage); multipliers are carried over."""
+        m = self.model
+        if len(m.kept) == m.m:
+            return
+        _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
+        c = jf[:, m.sel]
+        kept, _, _ = independent_rows(c, rank=len(m.kept))
+        if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
+            force = c[m.kept].T @ self.lam
+            m.kept = kept
+            self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
+            self.row_changes += 1
+
+    def _finish(self, h: float) -> None:
+        self.t += h
+        self.steps += 1
+        self.model.commit(self.model.kin(self.pose, self.v, self.t))
+
+
+class Index3(Formulation):
+    """Index-3 DAE, Lie group generalised-alpha (module docstring)."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        super().__init__(model, settings)
+        self.coef = GeneralizedAlphaCoefficients(settings.spectral_radius)
+        self.a: np.ndarray | None = None
+        self.stiff_restarts = 0
+        self._iteration = None  # (step size and kept rows, factorised iteration matrix)
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        super().initialize(pose, v, t, inputs)
+        self.a = None
+
+    def on_restart(self) -> None:
+        if self.settings.restart == "none":
+            return
+        super().on_restart()
+        self.a = None
+
+    def _start_acceleration(self, h: float) -> np.ndarray:
+        delta = self.coef.alpha_m - self.coef.alpha_f
+        if self.settings.restart == "acceleration" or delta == 0.0:
+            return self.vdot.copy()
+        eps = 1e-5 * h
+        m = self.model
+        fwd = self.pose.retract(m.full(eps * self.v))
+        bwd = self.pose.retract(m.full(-eps * self.v))
+        ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
+        am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
+        correction = delta * h * (ap - am) / (2 * eps)
+        if np.max(np.abs(correction)) > 0.5 * np.max(np.abs(self.vdot)) + 1e-12:
+            # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
+            self.stiff_restarts += 1
+            return self.vdot.copy()
+        return self.vdot + correction
+
+    def step(self, h: float) -> None:
+        self.reselect_rows()
+        m, c = self.model, self.coef
+        if self.a is None:
+            self.a = self._start_acceleration(h)
+        am, af, g, b = c.alpha_m, c.alpha_f, c.gamma, c.beta
+        zeta = (1 - af) / (1 - am)
+        vd_n, a_n, v_n = self.vdot, self.a, self.v
+        t1 = self.t + h
+        vd, lam = vd_n.copy(), self.lam.copy()
+        tol = self.settings.newton_tolerance * max(self.length, float(np.max(np.abs(v_n), initial=0.0)))
+        n = m.n
+        scale_c = 1.0 / (h * h * b * zeta)
+
+        def residual(vd: np.ndarray, lam: np.ndarray):
+            a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+            v1 = v_n + h * ((1 - g) * a_n + g * a1)
+            pose1 = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
+            k = m.kin(pose1, v1, t1)
+            mass = m.mass_matrix(pose1)
+            ev = m.constraint(k, gamma=False)
+            r1 = mass @ vd - m.forces(k, self.inputs) + ev.jac.T @ lam
+            return np.concatenate([r1, ev.phi * scale_c]), k, mass, ev
+
+        previous = None
+        # modified Newton: the iteration matrix is kept across steps while the contraction stays fast
+        key = (h, tuple(m.kept))
+        lu = self._iteration[1] if self._iteration is not None and self._iteration[0] == key else None
+        exact = False
+        size = np.inf
+        r_norm_prev = np.inf
+        dx = None
+        for it in range(self.settings.max_iterations):
+            r, k, mass, ev = residual(vd, lam)
+            r_norm = float(np.max(np.abs(r)))
+            backtracks = 0
+            while dx is not None and it >= 2 and r_norm > r_norm_prev and backtracks < 6:
+                dx = 0.5 * dx  # damped Newton: the full step increased the residual
+                vd, lam = vd - dx[:n], lam - dx[n:]
+                r, k, mass, ev = residual(vd, lam)
+                r_norm = float(np.max(np.abs(r)))
+                backtracks += 1
+            r_norm_prev = r_norm
+            if lu is None:
+                r_ = len(lam)
+                if exact:  # finite-difference Jacobian of the full residual (stagnating modified Newton)
+                    jac = np.zeros((n + r_, n + r_))
+                    x0 = np.concatenate([vd, lam])
+                    for i in range(n):
+                        e = np.zeros(n)
+                        e[i] = 1e-7 * max(1.0, abs(vd[i]))
+                        jac[:, i] = (residual(vd + e, lam)[0] - r) / e[i]
+                    jac[:n, n:] = ev.jac.T
+                    jac[n:, n:] = 0.0
+                    lu = Factorized(jac)
+                    del x0
+                else:
+                    kt, dt = m.tangents(k)
+                    kt = kt + m.inertial_stiffness(k, vd) + m.geometric_stiffness(k, lam)
+                    dt = dt + m.gyroscopic_damping(k)
+                    s = mass + h * g * zeta * dt + h * h * b * zeta * kt
+                    lu = Factorized(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r_, r_))]]))
+            dx = lu.solve(-r)
+            vd = vd + dx[:n]
+            lam = lam + dx[n:]
+            self.newton_iterations += 1
+            # largest correction of the step's positions or velocities (velocities dominate for h < 1 s;
+            # an acceleration error would otherwise accumulate in v over many small steps)
+            size = max(h * h * b, h * g) * zeta * float(np.max(np.abs(dx[:n]))) if n else 0.0
+            if size <= 1e-2 * tol:
+                break
+            if previous is not None and previous > 0:
+                theta = size / previous
+                if (theta < 1 and size * theta / (1 - theta) <= tol) or (theta > 0.5 and size <= 100 * tol):
+                    break  # converged, or stagnating at the round-off floor
+                if theta > 0.3:
+                    exact = exact or it >= 4
+                    lu = None
+            previous = size
+        else:
+            if self._iteration is not None:  # a stale matrix from earlier steps: retry with a fresh one
+                self._iteration = None
+                self.newton_retries += 1
+                return self.step(h)
+            raise ConvergenceError(
+                f"generalised-alpha Newton iteration did not converge at t = {t1:g} s (last position correction "
+                f"{size:.3g} m or rad); reduce the step (multibody max_step) or check the model")
+        # keep the matrix for the next step only if it converged quickly here
+        self._iteration = (key, lu) if (not exact and it < 3) else None
+        a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+        self.v = v_n + h * ((1 - g) * a_n + g * a1)
+        self.pose = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
+        self.vdot, self.a, self.lam = vd, a1, lam
+        self._finish(h)
+
+
+class Index1(Formulation):
+    """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
+
+    def step(self, h: float) -> None:
+        self.reselect_rows()
+        m = self.model
+        tab = TABLEAUS[self.settings.integrator]
+
+        def rates(pose: Pose, v: np.ndarray, t: float):
+            return v, self.acceleration(pose, v, t)[0]
+
+        pose, v, _ = rkmk_step(tab, self.pose, self.v, self.t, h, rates, m.full)
+        self.pose, self.v = self.project(pose, v, self.t + h)
+        self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t + h)
+        self._finish(h)
+
+    def project(self, pose: Pose, v: np.ndarray, t: float) -> tuple[Pose, np.ndarray]:
+        """Nearest consistent position (mass metric, Newton) and velocity."""
+        m = self.model
+        w = m.mass_matrix(pose)
+        tol = 1e-3 * self.settings.newton_tolerance * self.length
+        for _ in range(self.settings.max_iterations):
+            ev = m.constraint(m.kin(pose, v, t), gamma=False)
+            if ev.phi.size == 0 or np.max(np.abs(ev.phi)) <= tol:
+                break
+            c = ev.jac
+            winv_ct = np.linalg.solve(w, c.T)
+            pose = pose.retract(m.full(-winv_ct @ np.linalg.solve(c @ winv_ct, ev.phi)))
+        else:
+            raise ConvergenceError(f"position projection did not converge at t = {t:g} s")
+        if ev.phi.size:
+            c = ev.jac
+            winv_ct = np.linalg.solve(w, c.T)
+            v = v - winv_ct @ np.linalg.solve(c @ winv_ct, c @ v - ev.rhs_v)
+        return pose, v
+
+
+class NullSpace(Formulation):
+    """Reduced ODE by null-space (Maggi) projection with coordinate partitioning (module docstring)."""
+
+    def __init__(self, model: MultibodyModel, settings: Settings) -> None:
+        super().__init__(model, settings)
+        self.dep = self.ind = None
+        self.quality = 0.0
+        self.repartitions = 0
+
+    def _choose_partition(self, c: np.ndarray) -> None:
+        r = c.shape[0]
+        _, _, piv = qr(c, pivoting=True, mode="economic")
+        self.dep, self.ind = np.sort(piv[:r]), np.sort(piv[r:])
+        self.quality = self._pivot_ratio(c)
+        self.repartitions += 1
+
+    def _pivot_ratio(self, c: np.ndarray) -> float:
+        if not len(self.dep):
+            return 1.0
+        u = np.abs(np.diag(lu_factor(c[:, self.dep])[0]))
+        return float(u.min() / max(np.max(np.abs(c)), 1e-300))
+
+    def basis(self, c: np.ndarray) -> tuple[np.ndarray, object]:
+        """P (n, n - r) for the current partition and the LU factors of C_d."""
+        n = self.model.n
+        p = np.zeros((n, len(self.ind)))
+        p[self.ind, np.arange(len(self.ind))] = 1.0
+        if not len(self.dep):
+            return p, None
+        lu = lu_factor(c[:, self.dep])
+        p[self.dep] = -lu_solve(lu, c[:, self.ind])
+        return p, lu
+
+    def reduced_acceleration(self, pose: Pose, vs: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Full velocity, full acceleration and the independent accelerations at ``(pose, v_s)``."""
+        m = self.model
+        ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
+        p, lu = self.basis(ev.jac)
+        v = p @ vs
+        if lu is not None:
+            v[self.dep] += lu_solve(lu, ev.rhs_v)
+        k = m.kin(pose, v, t)
+        rho = np.zeros(m.n)
+        if lu is not None:
+            rho[self.dep] = lu_solve(lu, m.constraint_gamma(k))
+        mass = m.mass_matrix(pose)
+        f = m.forces(k, self.inputs)
+        vsd = np.linalg.solve(p.T @ mass @ p, p.T @ (f - mass @ rho))
+        return v, p @ vsd + rho, vsd
+
+    def step(self, h: float) -> None:
+        kept = self.model.kept
+        self.reselect_rows()
+        if self.model.kept is not kept:
+            self.dep = None
+        m = self.model
+        c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
+        if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):
+            self._choose_partition(c)
+        elif self.dep is None:
+            self.dep, self.ind = np.arange(0), np.arange(m.n)
+        tab = TABLEAUS[self.settings.integrator]
+
+        def rates(pose: Pose, vs: np.ndarray, t: float):
+            v, _, vsd = self.reduced_acceleration(pose, vs, t)
+            return v, vsd
+
+        pose, vs, _ = rkmk_step(tab, self.pose, self.v[self.ind], self.t, h, rates, m.full)
+        self.pose = self.correct_dependent(pose, self.t + h)
+        self.v, self.vdot, _ = self.reduced_acceleration(self.pose, vs, self.t + h)
+        self.lam = self.multipliers()
+        self._finish(h)
+
+    def correct_dependent(self, pose: Pose, t: float) -> Pose:
+        """Newton on the dependent positions with the independent ones held."""
+        m = self.model
+        if not len(self.dep):
+            return pose
+        tol = 1e-3 * self.settings.newton_tolerance * self.length
+        for _ in range(self.settings.max_iterations):
+            ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
+            if np.max(np.abs(ev.phi)) <= tol:
+                return pose
+            delta = np.zeros(m.n)
+            delta[self.dep] = -np.linalg.solve(ev.jac[:, self.dep], ev.phi)
+            pose = pose.retract(m.full(delta))
+        raise ConvergenceError(f"dependent coordinates did not converge at t = {t:g} s")
+
+    def multipliers(self) -> np.ndarray:
+        """lambda from the dependent rows of C^T lambda = f - M v' (reactions)."""
+        m = self.model
+        k = m.kin(self.pose, self.v, self.t)
+        ev = m.constraint(k, gamma=False)
+        if not ev.phi.size:
+            return np.zeros(0)
+        res = m.forces(k, self.inputs) - m.mass_matrix(self.pose) @ self.vdot
+        return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
+
+
+def _row_quality(rows: np.ndarray) -> float:
+    """Smallest singular value of the row-normalised rows (how independent they are)."""
+    scale = np.maximum(np.linalg.norm(rows, axis=1), 1e-300)
+    return float(np.linalg.svd(rows / scale[:, None], compute_uv=False).min())
+
+
+def make_formulation(model: MultibodyModel, settings: Settings) -> Formulation:
+    return {"index3": Index3, "index1": Index1, "nullspace": NullSpace}[settings.formulation](model, settings)

@@ -1,0 +1,109 @@
+"""Rotations: skew matrices, the exponential and logarithm of SO(3), and its tangent maps.
+
+Conventions used throughout :mod:`mbd_fmu`: a body's orientation is the rotation matrix ``R``
+from its equilibrium orientation to the current one (body axes = world axes at equilibrium);
+angular velocities ``w`` are in the world frame, ``dR/dt = S(w) R``. A *rotation vector* ``phi``
+(axis times angle, rad) describes ``R = exp(S(phi))``. For the left (world-frame) convention
+``dR/dt = S(w) R`` with ``R = exp(S(phi))`` the rotation vector obeys ``phi' = J_l(phi)^-1 w``,
+``J_l`` the left Jacobian of SO(3). All functions are vectorised over leading axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+_SMALL = 1e-6
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """S(v) with S(v) u = v x u; ``v`` (..., 3) -> (..., 3, 3)."""
+    v = np.asarray(v, dtype=float)
+    s = np.zeros(v.shape[:-1] + (3, 3))
+    s[..., 0, 1], s[..., 0, 2] = -v[..., 2], v[..., 1]
+    s[..., 1, 0], s[..., 1, 2] = v[..., 2], -v[..., 0]
+    s[..., 2, 0], s[..., 2, 1] = -v[..., 1], v[..., 0]
+    return s
+
+
+def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """a = sin t / t, b = (1 - cos t) / t^2 with Taylor series near 0."""
+    small = t < _SMALL
+    ts = np.where(small, 1.0, t)
+    a = np.where(small, 1 - t**2 / 6, np.sin(ts) / ts)
+    b = np.where(small, 0.5 - t**2 / 24, (1 - np.cos(ts)) / ts**2)
+    return a, b
+
+
+def exp_so3(phi: np.ndarray) -> np.ndarray:
+    """Rodrigues: exp(S(phi)) for rotation vectors ``phi`` (..., 3)."""
+    phi = np.asarray(phi, dtype=float)
+    t = np.linalg.norm(phi, axis=-1)
+    a, b = _coefficients(t)
+    s = skew(phi)
+    return np.eye(3) + a[..., None, None] * s + b[..., None, None] * (s @ s)
+
+
+def log_so3(r: np.ndarray) -> np.ndarray:
+    """Rotation vector of rotation matrices ``r`` (..., 3, 3), angle in [0, pi]."""
+    r = np.asarray(r, dtype=float)
+    cos_t = np.clip((np.trace(r, axis1=-2, axis2=-1) - 1) / 2, -1.0, 1.0)
+    t = np.arccos(cos_t)
+    w = np.stack([r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]], axis=-1)
+    small = t < 1e-4
+    sin_t = np.sin(np.where(small, 1.0, t))
+    factor = np.where(small, 0.5 + t**2 / 12, t / (2 * sin_t))
+    phi = factor[..., None] * w
+    near_pi = t > np.pi - 1e-4
+    if np.any(near_pi):  # axis from the symmetric part: R = I + 2 n n^T - ... at t = pi
+        for idx in zip(*np.nonzero(np.atleast_1d(near_pi)), strict=False):
+            m = r[idx] if r.ndim > 2 else r
+            sym = (m + m.T) / 2 - np.cos(t[idx] if t.ndim else t) * np.eye(3)
+            k = int(np.argmax(np.diag(sym)))
+            n = sym[k] / np.sqrt(max(sym[k, k], 1e-300))
+            if np.dot(n, w[idx] if w.ndim > 1 else w) < 0:
+                n = -n
+            value = n * (t[idx] if t.ndim else t)
+            if phi.ndim > 1:
+                phi[idx] = value
+            else:
+                phi = value
+    return phi
+
+
+def left_jacobian_inverse(phi: np.ndarray) -> np.ndarray:
+    """J_l(phi)^-1: phi' = J_l^-1 w for R = exp(S(phi)), dR/dt = S(w) R."""
+    phi = np.asarray(phi, dtype=float)
+    t = np.linalg.norm(phi, axis=-1)
+    small = t < 1e-4
+    ts = np.where(small, 1.0, t)
+    c = np.where(small, 1 / 12 + t**2 / 720, (1 - ts * np.sin(ts) / (2 * (1 - np.cos(ts)))) / ts**2)
+    s = skew(phi)
+    return np.eye(3) - 0.5 * s + c[..., None, None] * (s @ s)
+
+
+def left_jacobian(phi: np.ndarray) -> np.ndarray:
+    """J_l(phi) = I + (1 - cos t)/t^2 S + (t - sin t)/t^3 S^2."""
+    phi = np.asarray(phi, dtype=float)
+    t = np.linalg.norm(phi, axis=-1)
+    small = t < 1e-4
+    ts = np.where(small, 1.0, t)
+    _, b = _coefficients(t)
+    c = np.where(small, 1 / 6 - t**2 / 120, (ts - np.sin(ts)) / ts**3)
+    s = skew(phi)
+    return np.eye(3) + b[..., None, None] * s + c[..., None, None] * (s @ s)
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b over the last axis (faster than ``np.cross`` for small arrays)."""
+    if a.ndim == 1 and b.ndim == 1:
+        a0, a1, a2 = a.tolist()
+        b0, b1, b2 = b.tolist()
+        return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
+    a, b = np.broadcast_arrays(a, b)
+    out = np.empty(a.shape)
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
