@@ -9,7 +9,8 @@ report their energy terms:
   (:mod:`mbd_fmu.coordinates`): point-to-point spring-dampers (distance), rotary spring-dampers
   (joint angle), penalty/bushing components (relative translations and rotations of two frames,
   seed 000's relative pitch and yaw PTO), and the controllable PTOs (``k``, ``c``, ``u`` are
-  changed between steps by :meth:`set_command`);
+  changed between steps by :meth:`set_command`), optionally with a nonlinear law
+  (:class:`PtoLaw`: Coulomb friction, quadratic damping, force saturation);
 * :class:`Rope` - tension-only spring-damper on a distance;
 * :class:`CoulombFriction` - regularised Coulomb friction ``F = -F_c tanh(q'/v_reg)`` on a
   joint coordinate (constant friction force or torque magnitude ``F_c``).
@@ -66,6 +67,7 @@ class ForceElement:
     """Base class of the nonlinear models' force elements (see the module docstring)."""
 
     name: str
+    nonlinear = False  # force not linear in the coordinates and rates (the pseudo-spectral solver evaluates it)
 
     def apply(self, k: Kin, f: np.ndarray) -> None:  # pragma: no cover - abstract
         """Add the generalised force into the full slot vector ``f`` (6 (N + 1))."""
@@ -92,9 +94,46 @@ class ForceElement:
         """After an accepted step."""
 
 
+@dataclass(frozen=True)
+class PtoLaw:
+    """Nonlinear additions to a PTO's linear law ``g = -k x - c v + u`` (x from neutral, v the rate):
+
+        g_nl = g - F_c tanh(v / v_s) - c_q |v| v,      F = F_max tanh(g_nl / F_max)  (if F_max > 0),
+
+    ``F_c`` a regularised Coulomb friction force (N or N m; ``v_s`` its velocity scale, m/s or
+    rad/s), ``c_q`` a quadratic damping (N s^2/m^2; with ``F_c`` a hydraulic-like PTO: a constant
+    pressure difference plus orifice losses), ``F_max`` a smooth saturation (N or N m; 0 = none).
+    All parameters zero: the linear law. ``force`` and ``derivatives`` are scalar functions,
+    shared by the time-domain element and the pseudo-spectral solver.
+    """
+
+    friction: float = 0.0
+    quadratic: float = 0.0
+    force_limit: float = 0.0
+    velocity_scale: float = 0.01
+
+    @property
+    def nonlinear(self) -> bool:
+        return bool(self.friction or self.quadratic or self.force_limit)
+
+    def force(self, linear: np.ndarray | float, v: np.ndarray | float) -> np.ndarray | float:
+        """F from the linear law's value ``linear`` and the rate ``v``."""
+        g = linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
+        return self.force_limit * np.tanh(g / self.force_limit) if self.force_limit > 0 else g
+
+    def derivatives(self, linear, v, dlinear_dx, dlinear_dv) -> tuple:
+        """(dF/dx, dF/dv) given the linear law's derivatives."""
+        g = linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
+        dg_dv = (dlinear_dv - self.friction / self.velocity_scale / np.cosh(v / self.velocity_scale) ** 2
+                 - 2 * self.quadratic * np.abs(v))
+        slope = 1.0 / np.cosh(g / self.force_limit) ** 2 if self.force_limit > 0 else 1.0
+        return slope * dlinear_dx, slope * dg_dv
+
+
 @dataclass
 class CoordinateSpringDamper(ForceElement):
-    """``F = -k (q - q0) - c q' + u`` on a scalar coordinate (a PTO when ``k``, ``c``, ``u`` are commanded)."""
+    """``F = -k (q - q0) - c q' + u`` on a scalar coordinate (a PTO when ``k``, ``c``, ``u`` are commanded),
+    optionally through a nonlinear :class:`PtoLaw`."""
 
     name: str
     coordinate: Coordinate
@@ -102,6 +141,20 @@ class CoordinateSpringDamper(ForceElement):
     damping: float = 0.0
     force_command: float = 0.0
     neutral: float = 0.0
+    law: PtoLaw = PtoLaw()
+
+    @property
+    def nonlinear(self) -> bool:
+        return self.law.nonlinear
+
+    def law_force(self, x, v):
+        """Force (N or N m) at displacement ``x`` from neutral and rate ``v`` (scalars or arrays)."""
+        return self.law.force(-self.stiffness * x - self.damping * v + self.force_command, v)
+
+    def law_derivatives(self, x, v) -> tuple:
+        """(dF/dx, dF/dv) of :meth:`law_force`."""
+        return self.law.derivatives(-self.stiffness * x - self.damping * v + self.force_command, v,
+                                    -self.stiffness, -self.damping)
 
     def set_command(self, stiffness: float, damping: float, force: float) -> None:
         self.stiffness, self.damping, self.force_command = float(stiffness), float(damping), float(force)
@@ -113,24 +166,28 @@ class CoordinateSpringDamper(ForceElement):
 
     def force(self, k: Kin) -> float:
         x, v, _ = self.state(k)
-        return -self.stiffness * x - self.damping * v + self.force_command
+        return self.law_force(x, v)
 
     def apply(self, k: Kin, f: np.ndarray) -> None:
         x, v, jac = self.state(k)
-        f[self.coordinate.cols()] += jac * (-self.stiffness * x - self.damping * v + self.force_command)
+        f[self.coordinate.cols()] += jac * self.law_force(x, v)
 
     def tangent(self, k: Kin):
-        _, _, jac = self.state(k)
+        x, v, jac = self.state(k)
         outer = np.outer(jac, jac)
-        return self.coordinate.cols(), self.stiffness * outer, self.damping * outer
+        if not self.law.nonlinear:
+            return self.coordinate.cols(), self.stiffness * outer, self.damping * outer
+        dfdx, dfdv = self.law_derivatives(x, v)
+        return self.coordinate.cols(), -dfdx * outer, -dfdv * outer
 
     def potential(self, k: Kin) -> float:
         x, _, _ = self.state(k)
         return 0.5 * self.stiffness * x * x
 
     def dissipation(self, k: Kin) -> float:
-        _, v, _ = self.state(k)
-        return self.damping * v * v
+        """``-(F + k x - u) q'``: ``c q'^2`` for the linear law."""
+        x, v, _ = self.state(k)
+        return -(self.law_force(x, v) + self.stiffness * x - self.force_command) * v
 
     def supply(self, k: Kin) -> float:
         _, v, _ = self.state(k)
@@ -139,7 +196,7 @@ class CoordinateSpringDamper(ForceElement):
     def power(self, k: Kin) -> float:
         """Power absorbed from the bodies, ``-F q'`` (W)."""
         x, v, _ = self.state(k)
-        return -(-self.stiffness * x - self.damping * v + self.force_command) * v
+        return -self.law_force(x, v) * v
 
     def output(self, k: Kin) -> np.ndarray:
         return np.array([self.force(k)])
@@ -151,6 +208,8 @@ class CoordinateSpringDamper(ForceElement):
 @dataclass
 class Rope(ForceElement):
     """Tension-only rope on a distance coordinate: tension ``T = max(0, k (l - L) + c l')`` when ``l > L``."""
+
+    nonlinear = True
 
     name: str
     coordinate: Coordinate
@@ -188,6 +247,8 @@ class Rope(ForceElement):
 @dataclass
 class CoulombFriction(ForceElement):
     """Regularised Coulomb friction on a joint coordinate: ``F = -F_c tanh(q' / v_reg)``."""
+
+    nonlinear = True
 
     name: str
     coordinate: Coordinate

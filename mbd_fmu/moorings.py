@@ -131,6 +131,8 @@ def _catenary_residual(h, v, x, z, length, w, ea):
 class CatenaryLine(ForceElement):
     """Quasi-static catenary from ``anchor`` (world) to a fairlead ``offset`` (body-fixed) on ``body``."""
 
+    nonlinear = True
+
     name: str
     body: int
     offset: np.ndarray

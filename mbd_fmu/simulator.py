@@ -154,6 +154,6 @@ class MultibodySimulator:
         rows = []
         for p in self.ptos:
             x, v, _ = p.state(k)
-            force = -p.stiffness * x - p.damping * v + p.force_command
+            force = p.law_force(x, v)
             rows.append((x, v, force, -force * v))
         return np.array(rows).reshape(len(self.ptos), 4)

@@ -16,7 +16,7 @@ import numpy as np
 
 from .bodies import RigidBody
 from .coordinates import Coordinate, Distance, RotationComponent, Slide
-from .force_elements import CoordinateSpringDamper, CoulombFriction, ForceElement, Rope
+from .force_elements import CoordinateSpringDamper, CoulombFriction, ForceElement, PtoLaw, Rope
 from .formulations import Settings
 from .joints import Driver, Harmonic, Joint, Table, TimeFunction
 from .kinematics import Pose
@@ -120,8 +120,10 @@ def force_element(model: MultibodyModel, d: dict[str, Any]) -> list[ForceElement
 def pto_element(model: MultibodyModel, p: dict[str, Any]) -> CoordinateSpringDamper:
     c = coordinate(model, p["coordinate"])
     neutral = _neutral(model, c, model.reference)
+    law = PtoLaw(p.get("friction_force", 0.0), p.get("quadratic_damping", 0.0), p.get("force_limit", 0.0),
+                 p.get("velocity_scale", 0.01))
     return CoordinateSpringDamper(p["name"], c, p.get("stiffness", 0.0), p.get("damping", 0.0),
-                                  p.get("force_command", 0.0), neutral)
+                                  p.get("force_command", 0.0), neutral, law)
 
 
 def build_model(spec: dict[str, Any], added_mass: np.ndarray | None = None) -> tuple[MultibodyModel, list]:

@@ -22,7 +22,6 @@ import sys
 from pathlib import Path
 
 import h5py
-import numpy as np
 
 from hydro_fmu.hdb import HydroDatabaseError
 
@@ -47,27 +46,43 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_rao(args: argparse.Namespace) -> int:
-    from . import frequency_domain
+    from .response_files import write_rao_file
+    from .scene import load_scene
+
+    scenario = _scenario(args.scenario)
+    if args.form:
+        scenario.rao.form = args.form
+    scene = load_scene(scenario)
+    out = Path(args.out)
+    responses = write_rao_file(scene, out)
+    print(f"RAOs ({responses[0].form} form) at {len(responses[0].omega)} frequencies and {len(responses)} "
+          f"heading(s) written to {out}")
+    _plots(args, out)
+    return 0
+
+
+def cmd_steady(args: argparse.Namespace) -> int:
+    from .response_files import write_steady_file
     from .scene import load_scene
 
     scenario = _scenario(args.scenario)
     scene = load_scene(scenario)
-    grid = scenario.rao.omega
-    omega = (np.arange(grid.start, grid.stop + grid.step / 2, grid.step) if grid else scene.hdb.omega)
-    fd = frequency_domain.solve(scene, omega)
     out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with h5py.File(out, "w") as f:
-        f.create_dataset("omega", data=fd.omega).attrs["unit"] = "rad/s"
-        for b in scenario.bodies:
-            ds = f.create_dataset(f"bodies/{b.name}/rao", data=fd.body_rao(b.name))
-            ds.attrs["unit"] = "m/m (translations), rad/m (rotations); exp(+i omega t) convention"
-        for name, p in fd.pto_power.items():
-            f.create_dataset(f"ptos/{name}/mean_power", data=p).attrs["unit"] = "W/m^2"
-        f.attrs["scenario"] = scenario.text
-        f.attrs["scenario_file"] = str(scenario.file)
-    print(f"RAOs at {len(omega)} frequencies written to {out}")
-    return 0
+    states = write_steady_file(scene, out, args.harmonics, args.form)
+    for st in states:
+        powers = ", ".join(f"{name} {p:.5g} W" for name, p in st.pto_power.items())
+        print(f"T = {st.period:g} s, {st.harmonics} harmonics ({st.form}): mean power {powers or 'no PTO'}")
+    print(f"steady states written to {out}")
+    _plots(args, out)
+    return 0 if all(st.converged for st in states) else 1
+
+
+def _plots(args: argparse.Namespace, out: Path) -> None:
+    if getattr(args, "plot", False):
+        from .plotting import plot_file
+
+        for png in plot_file(out):
+            print(f"figure: {png}")
 
 
 def cmd_hydro(args: argparse.Namespace) -> int:
@@ -161,7 +176,16 @@ def parser() -> argparse.ArgumentParser:
     a = sub.add_parser("rao", help="linear frequency-domain response (RAOs, PTO power)")
     a.add_argument("scenario")
     a.add_argument("--out", required=True, help="output HDF5 file")
+    a.add_argument("--form", choices=("dae", "ode"), help="override rao.form")
+    a.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     a.set_defaults(func=cmd_rao)
+    y = sub.add_parser("steady", help="pseudo-spectral periodic steady state in regular waves (nonlinear forces)")
+    y.add_argument("scenario")
+    y.add_argument("--out", required=True, help="output HDF5 file")
+    y.add_argument("--harmonics", type=int, help="override steady.harmonics")
+    y.add_argument("--form", choices=("dae", "ode"), help="override steady.form")
+    y.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
+    y.set_defaults(func=cmd_steady)
     h = sub.add_parser("hydro", help="build or refresh the scenario's hydrodynamic database")
     h.add_argument("scenario")
     h.add_argument("--refresh", action="store_true", help="recompute even if cached")

@@ -22,32 +22,48 @@ convergence order without the database's own truncation error.
 
 from __future__ import annotations
 
+import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import block_diag
 
 from hydro_fmu.radiation import impulse_response
+from hydro_fmu.waves import group_velocity
 
 from .scene import Scene
 
 
 @dataclass
 class FrequencyResponse:
-    """Linear response of a scene.
+    """Linear response of a scene, per metre of wave amplitude (``exp(+i omega t)`` convention).
 
     Attributes:
         omega: frequencies (Nw,), rad/s.
         coordinates: (body, dof) of each column of ``rao``.
         rao: complex motion per metre of wave amplitude (Nw, n).
         pto_power: mean absorbed power per PTO name, W per m^2 of wave amplitude (Nw,).
+        form: ``dae`` (multipliers solved with the motion) or ``ode`` (null-space reduced).
+        heading_deg: wave heading (degrees).
+        multipliers: dynamic Lagrange multipliers of the independent constraint rows (Nw, r), N per m.
+        joint_rao: per joint, its coordinates' RAOs (Nw, k) (rad/m or m/m), names in ``joint_coordinates``.
+        reaction_rao: per joint, force (N/m) and moment about the joint point (N m/m) on body 2
+            from body 1, world frame (Nw, 6): the dynamic part, about the static reaction.
+        incident_power: incident wave power per metre of crest, W/m per m^2 of amplitude (Nw,).
     """
 
     omega: np.ndarray
     coordinates: list[tuple[str, int]]
     rao: np.ndarray
     pto_power: dict[str, np.ndarray]
+    form: str = "ode"
+    heading_deg: float = 0.0
+    multipliers: np.ndarray | None = None
+    joint_rao: dict[str, np.ndarray] = field(default_factory=dict)
+    joint_coordinates: dict[str, list[str]] = field(default_factory=dict)
+    reaction_rao: dict[str, np.ndarray] = field(default_factory=dict)
+    incident_power: np.ndarray | None = None
 
     def body_rao(self, body: str) -> np.ndarray:
         """RAO of ``body`` as (Nw, 6), zero for inactive degrees of freedom."""
@@ -56,6 +72,10 @@ class FrequencyResponse:
             if b == body:
                 out[:, d] = self.rao[:, j]
         return out
+
+    def capture_width(self, pto: str) -> np.ndarray:
+        """Mean PTO power over the incident power per metre of crest (m), (Nw,)."""
+        return self.pto_power[pto] / self.incident_power
 
 
 def radiation_coefficients_from_irf(
@@ -90,8 +110,14 @@ class LinearModel:
     """Z(omega) and the excitation of a scene on its multibody coordinates.
 
     Attributes:
-        omega: (Nw,) rad/s; impedance: Z (Nw, n, n); excitation: per metre of amplitude (Nw, n);
-        stiffness: total static stiffness K = C_hs + K_pto (n, n); system: the multibody model.
+        omega: (Nw,) rad/s; impedance: Z (Nw, d, d) and excitation (Nw, d) per metre of amplitude,
+            reduced to the constraint null space for constrained scenes (d = n - r); stiffness: the
+            reduced static stiffness; system: the multibody model.
+        full_impedance, full_excitation: the same on all n generalised coordinates (Nw, n, n), (Nw, n).
+        constraint: the independent rows of the linearised constraint Jacobian C (r, n).
+        basis: null space P of C (n, d): motion = P @ reduced solution (None without constraints).
+        pto_rows: PTO name -> (coordinate row on the n coordinates, damping, the PTO element or None).
+        joints: joint name -> (coordinate names, their rows (k, n), reaction map (6, r) from multipliers).
     """
 
     omega: np.ndarray
@@ -99,28 +125,36 @@ class LinearModel:
     excitation: np.ndarray
     stiffness: np.ndarray
     system: object
-    basis: np.ndarray | None = None  # constrained scenes: motion = basis @ reduced solution
+    basis: np.ndarray | None = None
     coordinates: list | None = None
-    pto_rows: dict | None = None  # constrained scenes: PTO name -> (coordinate Jacobian row, damping)
+    pto_rows: dict | None = None
+    full_impedance: np.ndarray | None = None
+    full_excitation: np.ndarray | None = None
+    constraint: np.ndarray | None = None
+    joints: dict = field(default_factory=dict)
 
 
 def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database",
-                 dt: float | None = None, omega_cut: float = np.inf) -> LinearModel:
+                 dt: float | None = None, omega_cut: float = np.inf,
+                 heading_deg: float | None = None) -> LinearModel:
     """Assemble Z(omega) = -w^2 (M + A) + i w (B + C_pto) + C_hs + K_pto and F_exc (module docstring).
 
     ``radiation``: ``database`` (A, B interpolated from the database) or ``impulse_response``
     (the coefficients of the sampled, truncated impulse response at step ``dt``, default the
-    scenario's macro step; above ``omega_cut`` A = A_inf and B = 0).
+    scenario's macro step; above ``omega_cut`` A = A_inf and B = 0). ``heading_deg``: wave heading,
+    default the scenario's.
     """
     omega = np.asarray(omega, dtype=float)
+    heading = scene.scenario.waves.heading_deg if heading_deg is None else heading_deg
     if scene.scenario.formulation != "linear":
-        return _constrained_linear_model(scene, omega, radiation=radiation, dt=dt, omega_cut=omega_cut)
+        return _constrained_linear_model(scene, omega, radiation=radiation, dt=dt, omega_cut=omega_cut,
+                                         heading=heading)
     system = scene.multibody_system(added_mass=False)
     idx = scene.hydro_index()
     rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
     hdb = scene.hdb
     switches = scene.scenario.hydro
-    A, B, X = hdb.interpolate(omega, np.radians(scene.scenario.waves.heading_deg))
+    A, B, X = hdb.interpolate(omega, np.radians(heading))
     if radiation == "impulse_response":
         A, B = radiation_coefficients_from_irf(
             scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
@@ -144,14 +178,21 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
     f = np.zeros((len(omega), system.n), complex)
     if switches.excitation:
         f[:, rows] = X[:, idx]
-    return LinearModel(omega, z, f, stiffness, system)
+    pto_rows = {}
+    for p in system.ptos:
+        row = np.zeros(system.n)
+        row[system.coordinate_index(p.body, p.dof)] = 1.0
+        pto_rows[p.name] = (row, p.damping, None)
+    return LinearModel(omega, z, f, stiffness, system, coordinates=list(system.coordinates), pto_rows=pto_rows,
+                       full_impedance=z, full_excitation=f, constraint=np.zeros((0, system.n)))
 
 
 def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str, dt: float | None,
-                              omega_cut: float) -> LinearModel:
+                              omega_cut: float, heading: float) -> LinearModel:
     """Z(omega) of a scene with joints, from the multibody linearisation (``mbd_fmu.linearize``):
-    ``Z_r = P^T [-w^2 (M + A) + i w (B + D) + C_hs + K] P`` on the null space ``P`` of the constraints,
-    ``K`` including the geometric stiffness of the static loads (gravity, buoyancy) and reactions."""
+    ``Z = -w^2 (M + A) + i w (B + D) + C_hs + K`` on the generalised coordinates, ``K`` including the
+    geometric stiffness of the static loads (gravity, buoyancy) and reactions, with the independent
+    rows ``C`` of the constraint Jacobian and its null space ``P`` (reduced: ``P^T Z P``)."""
     from mbd_fmu.linearize import linearize
 
     sim = scene.multibody_simulator(added_mass=False)
@@ -161,7 +202,7 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
     switches = scene.scenario.hydro
     idx = scene.hydro_index()
     rows = [model.slot_of(b, d) for b, d in scene.hydro_coordinates]
-    A, B, X = hdb.interpolate(omega, np.radians(scene.scenario.waves.heading_deg))
+    A, B, X = hdb.interpolate(omega, np.radians(heading))
     if radiation == "impulse_response":
         A, B = radiation_coefficients_from_irf(
             scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
@@ -170,6 +211,9 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
     if not switches.radiation:
         A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
         B = np.zeros_like(B)
+    viscous = scene.viscous() if switches.viscous else None
+    if viscous is not None:  # linear part of the viscous force (quadratic drag is not linear: left out)
+        B = B + np.diag(viscous.linear)[None]
     stiffness = lin.stiffness.copy()
     if switches.hydrostatics:
         stiffness[np.ix_(rows, rows)] += block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)]
@@ -181,30 +225,83 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
         f[:, rows] = X[:, idx]
     p = lin.null_space
     kin = model.kin(model.reference, np.zeros(model.n))
-    pto_rows = {}
-    for pto in sim.ptos:
-        full = np.zeros(6 * (model.N + 1))
-        full[pto.coordinate.cols()] += pto.coordinate.evaluate(kin)[1]
-        pto_rows[pto.name] = (full[model.sel], pto.damping)
-    return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows)
+    pto_rows = {pto.name: (_coordinate_row(model, pto.coordinate, kin), pto.damping, pto) for pto in sim.ptos}
+    return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows,
+                       full_impedance=z, full_excitation=f, constraint=lin.constraint_jacobian,
+                       joints=_joint_maps(model, kin))
 
 
-def solve(
-    scene: Scene, omega: np.ndarray, *, radiation: str = "database", dt: float | None = None
-) -> FrequencyResponse:
-    """Response of ``scene`` at ``omega`` (rad/s) to unit-amplitude waves at the scene's heading."""
-    model = linear_model(scene, omega, radiation=radiation, dt=dt)
-    rao = np.linalg.solve(model.impedance, model.excitation[..., None])[..., 0]
-    if model.basis is not None:
-        rao = rao @ model.basis.T
-        power = {name: 0.5 * model.omega**2 * c * np.abs(rao @ row) ** 2 for name, (row, c) in model.pto_rows.items()}
-        return FrequencyResponse(model.omega, model.coordinates, rao, power)
-    system = model.system
-    power = {}
-    for p in system.ptos:
-        j = system.coordinate_index(p.body, p.dof)
-        power[p.name] = 0.5 * model.omega**2 * p.damping * np.abs(rao[:, j]) ** 2
-    return FrequencyResponse(model.omega, system.coordinates, rao, power)
+def _coordinate_row(model, coordinate, kin) -> np.ndarray:
+    """Gradient of a scalar coordinate with respect to the model's generalised slots (n,)."""
+    full = np.zeros(6 * (model.N + 1))
+    full[coordinate.cols()] += coordinate.evaluate(kin)[1]
+    return full[model.sel]
+
+
+def _joint_maps(model, kin) -> dict:
+    """Per joint: coordinate names, coordinate rows (k, n), and the (6, r) map from the multipliers of the
+    kept constraint rows to the reaction force and moment (about the joint point) on body 2 from body 1."""
+    from mbd_fmu.rotations import skew
+
+    _, jf, _, _ = model.constraint_full(kin, gamma=False)
+    position = {row: k for k, row in enumerate(model.kept)}
+    out = {}
+    for cj in model.joints:
+        b2 = cj.m2.body
+        kept = [r for r in cj.rows if r in position]
+        reaction = np.zeros((6, len(model.kept)))
+        if kept:
+            gen = -jf[np.ix_(kept, range(6 * b2, 6 * b2 + 6))].T  # (6, k): wrench about the cg of body 2
+            lever = skew(kin.rr[b2] - (kin.rr[b2] + kin.RR[b2] @ cj.m2.offset))
+            transfer = np.block([[np.eye(3), np.zeros((3, 3))], [lever, np.eye(3)]])
+            reaction[:, [position[r] for r in kept]] = transfer @ gen
+        coords = np.array([_coordinate_row(model, c, kin) for c in cj.coordinates]).reshape(-1, model.n)
+        out[cj.joint.name] = (list(cj.coordinate_names), coords, reaction)
+    return out
+
+
+def solve(scene: Scene, omega: np.ndarray, *, form: str = "ode", heading_deg: float | None = None,
+          radiation: str = "database", dt: float | None = None) -> FrequencyResponse:
+    """Response of ``scene`` at ``omega`` (rad/s) to unit-amplitude waves at ``heading_deg`` (default the scene's).
+
+    ``form="dae"`` solves the bordered system ``[[Z, C^T], [C, 0]] [X; L] = [F; 0]`` for the motion
+    and the dynamic multipliers together; ``form="ode"`` solves ``P^T Z P y = P^T F``, ``X = P y`` on
+    the null space ``P`` of the independent constraint rows ``C`` and recovers the multipliers from
+    ``C^T L = F - Z X`` (least squares; exact, the residual lies in the range of ``C^T``). Both are
+    the same linear system; they agree to round-off.
+    """
+    model = linear_model(scene, omega, radiation=radiation, dt=dt, heading_deg=heading_deg)
+    z, f, c = model.full_impedance, model.full_excitation, model.constraint
+    n, r = z.shape[1], c.shape[0]
+    if form == "dae":
+        big = np.zeros((len(model.omega), n + r, n + r), complex)
+        big[:, :n, :n] = z
+        big[:, :n, n:] = c.T
+        big[:, n:, :n] = c
+        rhs = np.concatenate([f, np.zeros((len(model.omega), r))], axis=1)
+        sol = np.linalg.solve(big, rhs[..., None])[..., 0]
+        rao, lam = sol[:, :n], sol[:, n:]
+    elif form == "ode":
+        y = np.linalg.solve(model.impedance, model.excitation[..., None])[..., 0]
+        rao = y @ model.basis.T if model.basis is not None else y
+        residual = f - np.einsum("wij,wj->wi", z, rao)
+        lam = np.linalg.lstsq(c.T, residual.T, rcond=None)[0].T if r else np.zeros((len(model.omega), 0))
+    else:
+        raise ValueError(f"form must be 'dae' or 'ode', not {form!r}")
+    power = {name: 0.5 * model.omega**2 * damping * np.abs(rao @ row) ** 2
+             for name, (row, damping, _) in model.pto_rows.items()}
+    joint_rao = {name: rao @ rows.T for name, (_, rows, _) in model.joints.items()}
+    reactions = {name: lam @ reaction.T for name, (_, _, reaction) in model.joints.items()}
+    heading = scene.scenario.waves.heading_deg if heading_deg is None else heading_deg
+    return FrequencyResponse(model.omega, model.coordinates, rao, power, form, heading, lam, joint_rao,
+                             {name: names for name, (names, _, _) in model.joints.items()}, reactions,
+                             incident_wave_power(scene, model.omega))
+
+
+def incident_wave_power(scene: Scene, omega: np.ndarray) -> np.ndarray:
+    """Energy flux of a regular wave per metre of crest and per m^2 of amplitude, W/m: (1/2) rho g c_g."""
+    hdb = scene.hdb
+    return 0.5 * hdb.rho * hdb.g * group_velocity(omega, hdb.water_depth, hdb.g)
 
 
 def free_decay(
@@ -264,3 +361,40 @@ def _decay_integral(omega: np.ndarray, g: np.ndarray, g0: np.ndarray, t: np.ndar
         kernel = (np.exp(1j * omega * tk) - 1.0) / (1j * omega)
         out[k] = np.real((kernel * weights) @ g) + 0.5 * d_omega * tk * g0
     return out
+
+
+@dataclass
+class IrregularResponse:
+    """Linear response statistics in an irregular, unidirectional sea (spectral superposition).
+
+    Attributes:
+        omega: the RAO grid (rad/s); wave_spectrum: S(omega) on it (m^2 s/rad).
+        response_spectra: |RAO|^2 S per coordinate (Nw, n); significant_response: 4 sqrt(m0) per
+            coordinate (crest-to-trough, m or rad); mean_power: per PTO, sum of 2 S(omega) P(omega) domega (W);
+        incident_power: rho g int S c_g domega (W/m); hs: 4 sqrt(m0) of the sea on the grid (m);
+        fraction_on_grid: m0 of the sea on the grid over its m0 on (0, 50 omega_max) (below 0.99: extend the grid).
+    """
+
+    omega: np.ndarray
+    wave_spectrum: np.ndarray
+    response_spectra: np.ndarray
+    significant_response: np.ndarray
+    mean_power: dict[str, float]
+    incident_power: float
+    hs: float
+    fraction_on_grid: float
+
+
+def irregular_response(fd: FrequencyResponse, spectrum) -> IrregularResponse:
+    """Statistics of the linear response ``fd`` (per metre of amplitude) in a sea of one-sided spectrum
+    ``spectrum(omega)``: component amplitudes a^2 = 2 S domega, integrals by the trapezoidal rule."""
+    w = fd.omega
+    s = np.asarray(spectrum(w), dtype=float)
+    response = np.abs(fd.rao) ** 2 * s[:, None]
+    m0 = np.trapezoid(s, w)
+    wide = np.linspace(1e-3, 50 * w[-1], 200_001)
+    total = np.trapezoid(np.asarray(spectrum(wide), float), wide)
+    power = {name: float(np.trapezoid(2 * s * p, w)) for name, p in fd.pto_power.items()}
+    return IrregularResponse(w, s, response, 4 * np.sqrt(np.trapezoid(response, w, axis=0)), power,
+                             float(np.trapezoid(2 * s * fd.incident_power, w)), 4 * math.sqrt(m0),
+                             float(m0 / total) if total > 0 else 1.0)

@@ -33,11 +33,14 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
         with h5py.File(path, "r", swmr=True) as f:
             if "omega" in f:
                 return [plot_rao(f, out / f"{path.stem}_rao.png")]
+            if "periods" in f:
+                return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
                 return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
-    raise WecCosimError(f"plot: {path} is neither a results file (/time) nor a RAO file (/omega)")
+    raise WecCosimError(f"plot: {path} is neither a results file (/time), a RAO file (/omega) nor a steady-state "
+                        "file (/periods)")
 
 
 def _active(d: np.ndarray) -> list[int]:
@@ -95,3 +98,24 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
         axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
     return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
                  "wave frequency (rad/s)", target)
+
+
+def plot_steady(f: h5py.File, target: Path) -> Path:
+    """One period of every active DOF of each solved wave period (``wec-cosim steady``)."""
+    plt = _pyplot()
+    groups = [f[f"periods/{k}"] for k in sorted(f["periods"], key=int)]
+    fig, axes = plt.subplots(len(groups), 1, figsize=(8, 3 * len(groups)), squeeze=False)
+    for ax, g in zip(axes[:, 0], groups, strict=True):
+        t = g["time"][()]
+        for name in g["bodies"]:
+            y = g[f"bodies/{name}/one_period"][()]
+            for j in [j for j in range(6) if np.any(y[:, j])]:
+                ax.plot(t, y[:, j], label=f"{name} {DOFS[j]} ({UNITS[j]})")
+        ax.set_title(f"omega = {g.attrs['omega']:.4g} rad/s, {g.attrs['harmonics']} harmonics, "
+                     f"residual {g.attrs['residual']:.2g}")
+        ax.set_xlabel("t (s)")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target

@@ -299,6 +299,21 @@ class PtoSection:
     point2: list[float] = option(factory=list, unit="m",
                                  doc="attachment point on `body2` or on the ground (world, at equilibrium)")
     position: list[float] = option(factory=list, unit="m", doc="origin of the relative-DOF frame (world)")
+    friction_force: float = option(0.0, unit="N or N m", check=non_negative,
+                                   doc="nonlinear law: regularised Coulomb force F_c tanh(v / velocity_scale) "
+                                       "opposing the rate (with quadratic_damping: a hydraulic-like PTO)")
+    quadratic_damping: float = option(0.0, unit="N s^2/m^2 or N m s^2/rad^2", check=non_negative,
+                                      doc="nonlinear law: quadratic damping c_q |v| v (orifice losses)")
+    force_limit: float = option(0.0, unit="N or N m", check=non_negative,
+                                doc="nonlinear law: smooth saturation F_max tanh(F / F_max) of the total force; "
+                                    "0 = none")
+    velocity_scale: float = option(0.01, unit="m/s or rad/s", check=positive,
+                                   doc="regularisation velocity of friction_force")
+
+    @property
+    def nonlinear(self) -> bool:
+        """The PTO has a nonlinear law (needs a nonlinear multibody formulation)."""
+        return bool(self.friction_force or self.quadratic_damping or self.force_limit)
 
 
 @dataclass
@@ -394,6 +409,23 @@ class RaoSection:
     """Frequency-domain (RAO) settings for `wec-cosim rao`."""
 
     omega: FrequencyGrid | None = field(default=None, metadata={"doc": "frequencies; default the database grid"})
+    form: str = option("dae", choices=("dae", "ode"),
+                       doc="constrained scenes: `dae` (motion and Lagrange multipliers solved together) or `ode` "
+                           "(null-space reduced system, multipliers recovered); the same answer")
+    headings_deg: list[float] = option(factory=list, unit="deg",
+                                       doc="heading sweep (database headings); default the waves' heading")
+
+
+@dataclass
+class SteadySection:
+    """Pseudo-spectral periodic steady state for `wec-cosim steady` (regular waves, nonlinear forces)."""
+
+    harmonics: int = option(7, check=positive, doc="harmonics N of the wave frequency (2N + 1 collocation points)")
+    form: str = option("dae", choices=("dae", "ode"),
+                       doc="`dae`: motion and Lagrange multipliers expanded; `ode`: null-space reduced coordinates")
+    periods: list[float] = option(factory=list, unit="s", check=positive,
+                                  doc="wave periods to solve; default the waves' period")
+    tolerance: float = option(1e-12, check=positive, doc="relative step tolerance of the nonlinear solver")
 
 
 def _limits(value: list[float]) -> str | None:
@@ -470,6 +502,7 @@ class Scenario:
     forces: list[ForceSection] = field(default_factory=list, metadata={"doc": "force elements"})
     drivers: list[DriverSection] = field(default_factory=list, metadata={"doc": "prescribed motion"})
     rao: RaoSection = field(default_factory=RaoSection)
+    steady: SteadySection = field(default_factory=SteadySection, metadata={"doc": "pseudo-spectral steady state"})
     control: ControlSection = field(default_factory=ControlSection)
     sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
@@ -507,7 +540,7 @@ class Scenario:
             return f
         simple = (not self.joints and not self.forces and not self.drivers
                   and not any(b.point_mass for b in self.bodies)
-                  and all(not (p.joint or p.body2 or p.point) for p in self.ptos))
+                  and all(not (p.joint or p.body2 or p.point or p.nonlinear) for p in self.ptos))
         return "linear" if simple else "index3"
 
     @property
@@ -584,6 +617,10 @@ def _check(s: Scenario) -> None:
             raise ScenarioError(f"{where}: give the dof the PTO acts on (or a joint, or point and point2)")
         if not (p.joint or p.body2 or p.point) and p.dof not in names[p.body].dofs:
             raise ScenarioError(f"{where}: dof {p.dof!r} is not active on body {p.body!r}")
+        if p.nonlinear and s.formulation == "linear":
+            raise ScenarioError(f"{where}: friction_force, quadratic_damping and force_limit make the PTO law "
+                                "nonlinear; the 'linear' multibody formulation cannot take it: set "
+                                "multibody.formulation = 'index3' (or remove the key)")
     _check_multibody(s, f, names)
     _check_waves(s)
     _check_hydro(s)

@@ -398,7 +398,9 @@ class Scene:
                 for b in s.bodies
             ],
             "ptos": [{"name": p.name, "body": p.body, "dof": DOFS.index(p.dof) if p.dof else 0,
-                      "stiffness": p.stiffness, "damping": p.damping} for p in s.ptos],
+                      "stiffness": p.stiffness, "damping": p.damping, "friction_force": p.friction_force,
+                      "quadratic_damping": p.quadratic_damping, "force_limit": p.force_limit,
+                      "velocity_scale": p.velocity_scale} for p in s.ptos],
             "hydro_bodies": self.hydro_bodies,
             "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
         }
