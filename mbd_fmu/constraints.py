@@ -31,7 +31,12 @@ ROWS = {"point": 3, "perp": 1, "plane": 1, "distance": 1}
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...k,...k->...", a, b)
+    return np.add.reduce(a * b, axis=-1)
+
+
+def _rotate(rot: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``rot @ v`` for stacks of matrices (k, 3, 3) and vectors (k, 3)."""
+    return (rot @ v[..., None])[..., 0]
 
 
 @dataclass
@@ -62,6 +67,10 @@ class PrimitiveGroup:
         self.COLS = cols  # (k, 12)
         self.SCATTER = (np.broadcast_to(self.ROW[:, :, None], (k, c, 12)),
                         np.broadcast_to(cols[:, None, :], (k, c, 12)))
+        self.TEMPLATE = np.zeros((k, c, 12))  # constant Jacobian entries (the point's translations)
+        if self.kind == "point":
+            self.TEMPLATE[:, :, 0:3] = np.eye(3)
+            self.TEMPLATE[:, :, 6:9] = -np.eye(3)
 
     def __len__(self) -> int:
         return len(self.bi)
@@ -100,14 +109,14 @@ class ConstraintSet:
         if len(g):
             eye = np.eye(3)
             for sign, b, v in ((1.0, g.BI, g.VI), (-1.0, g.BJ, g.VJ)):
-                a = np.einsum("kab,kb->ka", k.RR[b], v)
+                a = _rotate(k.RR[b], v)
                 lk = lam[g.ROW]
                 blocks = sign * (a[:, :, None] * lk[:, None, :] - _dot(a, lk)[:, None, None] * eye)
                 _add_blocks(out, b, b, blocks)
         g = self.groups["perp"]
         if len(g):
-            u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-            w = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+            u = _rotate(k.RR[g.BI], g.VI)
+            w = _rotate(k.RR[g.BJ], g.VJ)
             lk = lam[g.ROW[:, 0]]
             uw = _dot(u, w)[:, None, None] * np.eye(3)
             ii = lk[:, None, None] * (u[:, :, None] * w[:, None, :] - uw)
@@ -133,17 +142,13 @@ def _add_blocks(out: np.ndarray, bi: np.ndarray, bj: np.ndarray, blocks: np.ndar
 
 def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
     Ri, Rj = k.RR[g.BI], k.RR[g.BJ]
-    ai = np.einsum("kab,kb->ka", Ri, g.VI)
-    aj = np.einsum("kab,kb->ka", Rj, g.VJ)
+    ai = _rotate(Ri, g.VI)
+    aj = _rotate(Rj, g.VJ)
     if phi is not None:
         phi[g.ROW] = k.rr[g.BI] + ai - k.rr[g.BJ] - aj
     if jac is not None:
-        n = len(g)
-        blocks = np.zeros((n, 3, 12))
-        eye = np.eye(3)
-        blocks[:, :, 0:3] = eye
+        blocks = g.TEMPLATE.copy()  # translation parts: I and -I
         blocks[:, :, 3:6] = -_skew(ai)
-        blocks[:, :, 6:9] = -eye
         blocks[:, :, 9:12] = _skew(aj)
         jac[g.SCATTER] = blocks
     if gamma is not None:
@@ -152,14 +157,14 @@ def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
 
 
 def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-    w = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+    u = _rotate(k.RR[g.BI], g.VI)
+    w = _rotate(k.RR[g.BJ], g.VJ)
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(u, w) - g.C0
     uxw = _cross(u, w)
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 3:6] = uxw
         blocks[:, 0, 9:12] = -uxw
         jac[g.SCATTER] = blocks
@@ -171,8 +176,8 @@ def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
 
 def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """World offsets of the two points from their cgs and the vector from point i to point j."""
-    ai = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-    aj = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+    ai = _rotate(k.RR[g.BI], g.VI)
+    aj = _rotate(k.RR[g.BJ], g.VJ)
     return ai, aj, k.rr[g.BJ] + aj - k.rr[g.BI] - ai
 
 
@@ -185,13 +190,13 @@ def _relative_motion(g: PrimitiveGroup, k: Kin, ai: np.ndarray, aj: np.ndarray) 
 
 
 def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    n = np.einsum("kab,kb->ka", k.RR[g.BI], g.NI)
+    n = _rotate(k.RR[g.BI], g.NI)
     ai, aj, d = _offsets(g, k)
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(n, d) - g.C0
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 0:3] = -n
         blocks[:, 0, 3:6] = _cross(n, d + ai)
         blocks[:, 0, 6:9] = n
@@ -205,13 +210,13 @@ def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
 
 def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
     ai, aj, d = _offsets(g, k)
-    length = np.linalg.norm(d, axis=1)
+    length = np.sqrt(_dot(d, d))
     e = d / length[:, None]
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = length - g.C0
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 0:3] = -e
         blocks[:, 0, 3:6] = -_cross(ai, e)
         blocks[:, 0, 6:9] = e

@@ -16,6 +16,8 @@ import numpy as np
 
 from .rotations import exp_so3
 
+_EYE = np.eye(3)
+
 
 @dataclass
 class Pose:
@@ -42,8 +44,11 @@ class Kin:
     def __init__(self, pose: Pose, w_full: np.ndarray, t: float = 0.0) -> None:
         n = len(pose.r)
         self.n_bodies = n
-        self.rr = np.vstack([pose.r, np.zeros((1, 3))])
-        self.RR = np.concatenate([pose.R, np.eye(3)[None]], axis=0)
+        self.rr = np.zeros((n + 1, 3))
+        self.rr[:n] = pose.r
+        self.RR = np.empty((n + 1, 3, 3))
+        self.RR[:n] = pose.R
+        self.RR[n] = _EYE
         self.W = np.asarray(w_full, dtype=float).reshape(n + 1, 6)
         self.t = t
 

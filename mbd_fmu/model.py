@@ -202,28 +202,36 @@ class MultibodyModel:
     def mass_matrix(self, pose: Pose) -> np.ndarray:
         """(n, n) structural mass plus A_inf, in generalised slots."""
         if not hasattr(self, "_mass_index"):
-            body, local = self.sel // 6, self.sel % 6
-            rows, cols = np.nonzero(body[:, None] == body[None, :])
-            self._mass_index = (rows, cols, body[rows], local[rows], local[cols])
-            self._rotating = bool(np.any(self.inertia))
-        rows, cols, b, lr, lc = self._mass_index
-        blocks = np.zeros((self.N, 6, 6))
-        blocks[:, 0, 0] = blocks[:, 1, 1] = blocks[:, 2, 2] = self.mass
+            self._build_mass_index()
+        m = self._mass_constant.copy()
         if self._rotating:
-            blocks[:, 3:, 3:] = self.world_inertia(self._pose_kin(pose))
-        m = self.added.copy()
-        m[rows, cols] += blocks[b, lr, lc]
+            rows, cols, b, lr, lc = self._mass_index
+            r = pose.R
+            m[rows, cols] += (r @ self.inertia @ np.transpose(r, (0, 2, 1)))[b, lr, lc]
         return m
+
+    def _build_mass_index(self) -> None:
+        """Constant part of the mass matrix (A_inf and the bodies' masses on their translation slots) and
+        the scatter indices of the world inertia's entries on the rotation slots."""
+        body, local = self.sel // 6, self.sel % 6
+        rows, cols = np.nonzero((body[:, None] == body[None, :]) & (local[:, None] >= 3) & (local[None, :] >= 3))
+        self._mass_index = (rows, cols, body[rows], local[rows] - 3, local[cols] - 3)
+        self._rotating = bool(np.any(self.inertia)) and len(rows) > 0
+        translation = np.nonzero(local < 3)[0]
+        self._mass_constant = self.added.copy()
+        self._mass_constant[translation, translation] += self.mass[body[translation]]
 
     def forces_full(self, k: Kin) -> np.ndarray:
         """Generalised force in full slots: gyroscopic, gravity, static loads, force elements."""
-        f = np.zeros(6 * (self.N + 1))
-        fb = f.reshape(self.N + 1, 6)
+        if not hasattr(self, "_constant_force"):
+            self._constant_force = self.static.copy()
+            self._constant_force[: self.N, :3] = self.mass[:, None] * self.gravity + self.static[: self.N, :3]
+        fb = self._constant_force.copy()
         w = k.W[: self.N, 3:]
-        if np.any(w):
-            fb[: self.N, 3:] -= cross(w, np.einsum("kab,kb->ka", self.world_inertia(k), w))
-        fb[: self.N, :3] += self.mass[:, None] * self.gravity
-        fb += self.static
+        if w.any():
+            iw = self.world_inertia(k)
+            fb[: self.N, 3:] -= cross(w, (iw @ w[:, :, None])[:, :, 0])
+        f = fb.reshape(-1)
         for e in self.elements:
             e.apply(k, f)
         return f
