@@ -165,8 +165,7 @@ class Formulation:
         r = ev.phi.size
         if r == 0:
             return np.linalg.solve(mass, f), np.zeros(0)
-        kkt = np.block([[mass, ev.jac.T], [ev.jac, np.zeros((r, r))]])
-        x = np.linalg.solve(kkt, np.concatenate([f, ev.gamma]))
+        x = np.linalg.solve(_saddle_point(mass, ev.jac), np.concatenate([f, ev.gamma]))
         return x[: m.n], x[m.n:]
 
     def step(self, h: float) -> None:  # pragma: no cover - abstract
@@ -181,6 +180,8 @@ class Formulation:
             return
         _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
         c = jf[:, m.sel]
+        if _row_quality(c[m.kept]) >= 0.5:  # no set can be twice as good: the quality is at most 1
+            return
         kept, _, _ = independent_rows(c, rank=len(m.kept))
         if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
             force = c[m.kept].T @ self.lam
@@ -292,7 +293,7 @@ class Index3(Formulation):
                     kt = kt + m.inertial_stiffness(k, vd) + m.geometric_stiffness(k, lam)
                     dt = dt + m.gyroscopic_damping(k)
                     s = mass + h * g * zeta * dt + h * h * b * zeta * kt
-                    lu = Factorized(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r_, r_))]]))
+                    lu = Factorized(_saddle_point(s, ev.jac))
             dx = lu.solve(-r)
             vd = vd + dx[:n]
             lam = lam + dx[n:]
@@ -386,29 +387,29 @@ class NullSpace(Formulation):
         u = np.abs(np.diag(lu_factor(c[:, self.dep])[0]))
         return float(u.min() / max(np.max(np.abs(c)), 1e-300))
 
-    def basis(self, c: np.ndarray) -> tuple[np.ndarray, object]:
-        """P (n, n - r) for the current partition and the LU factors of C_d."""
+    def basis(self, c: np.ndarray) -> tuple[np.ndarray, Factorized | None]:
+        """P (n, n - r) for the current partition and C_d ready for solves (None without constraints)."""
         n = self.model.n
         p = np.zeros((n, len(self.ind)))
         p[self.ind, np.arange(len(self.ind))] = 1.0
         if not len(self.dep):
             return p, None
-        lu = lu_factor(c[:, self.dep])
-        p[self.dep] = -lu_solve(lu, c[:, self.ind])
-        return p, lu
+        cd = Factorized(c[:, self.dep])
+        p[self.dep] = -cd.solve(c[:, self.ind])
+        return p, cd
 
     def reduced_acceleration(self, pose: Pose, vs: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Full velocity, full acceleration and the independent accelerations at ``(pose, v_s)``."""
         m = self.model
         ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
-        p, lu = self.basis(ev.jac)
+        p, cd = self.basis(ev.jac)
         v = p @ vs
-        if lu is not None:
-            v[self.dep] += lu_solve(lu, ev.rhs_v)
+        if cd is not None:
+            v[self.dep] += cd.solve(ev.rhs_v)
         k = m.kin(pose, v, t)
         rho = np.zeros(m.n)
-        if lu is not None:
-            rho[self.dep] = lu_solve(lu, m.constraint_gamma(k))
+        if cd is not None:
+            rho[self.dep] = cd.solve(m.constraint_gamma(k))
         mass = m.mass_matrix(pose)
         f = m.forces(k, self.inputs)
         vsd = np.linalg.solve(p.T @ mass @ p, p.T @ (f - mass @ rho))
@@ -461,6 +462,16 @@ class NullSpace(Formulation):
             return np.zeros(0)
         res = m.forces(k, self.inputs) - m.mass_matrix(self.pose) @ self.vdot
         return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
+
+
+def _saddle_point(s: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """``[[S, C^T], [C, 0]]``."""
+    n, r = s.shape[0], c.shape[0]
+    out = np.zeros((n + r, n + r))
+    out[:n, :n] = s
+    out[:n, n:] = c.T
+    out[n:, :n] = c
+    return out
 
 
 def _row_quality(rows: np.ndarray) -> float:

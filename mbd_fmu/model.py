@@ -318,6 +318,13 @@ class MultibodyModel:
                 gm[r] = d.function.d2(k.t) - quad
         return phi, jf, gm, rhs_v
 
+    def velocity_rhs(self, t: float) -> np.ndarray:
+        """``-Phi_t`` of the kept rows at time ``t`` (non-zero only on driver rows)."""
+        rhs_v = np.zeros(self.m)
+        for r, d in enumerate(self.drivers, start=self.m_primitive):
+            rhs_v[r] = d.function.d1(t)
+        return rhs_v[self.kept]
+
     def constraint_gamma(self, k: Kin) -> np.ndarray:
         """gamma of the kept rows only (cheaper than :meth:`constraint` when the Jacobian is known)."""
         gm = np.zeros(self.m)

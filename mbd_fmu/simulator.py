@@ -107,9 +107,8 @@ class MultibodySimulator:
         k = self.kin
         diss = sum(e.dissipation(k) for e in m.elements)
         supply = sum(e.supply(k) for e in m.elements) + float(f.inputs @ f.v)
-        if len(f.lam):
-            ev = m.constraint(k, gamma=False)
-            supply -= float(f.lam @ ev.rhs_v)
+        if len(f.lam) and m.drivers:  # -Phi_t is non-zero only on driver rows
+            supply -= float(f.lam @ m.velocity_rhs(f.t))
         return diss, supply
 
     def energy(self) -> dict[str, float]:
