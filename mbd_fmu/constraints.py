@@ -126,9 +126,11 @@ class ConstraintSet:
             _add_blocks(out, g.BJ, g.BI, -ii)
             _add_blocks(out, g.BJ, g.BJ, -ij)
 
-    def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None) -> None:
-        """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None)."""
-        for g in self.active:
+    def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None,
+                 groups: list[PrimitiveGroup] | None = None) -> None:
+        """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None) for the rows of
+        ``groups`` (default: all)."""
+        for g in self.active if groups is None else groups:
             _EVALUATORS[g.kind](g, k, phi, jac, gamma)
 
 

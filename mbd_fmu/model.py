@@ -300,13 +300,14 @@ class MultibodyModel:
         return self._rotation_flag
 
     # ------------------------------------------------------------------ constraints
-    def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True) -> tuple:
-        """All rows: Phi (m,), Jacobian (m, 6(N+1)) in full slots, gamma (m,), -Phi_t (m,)."""
+    def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True, kept_only: bool = False) -> tuple:
+        """All rows: Phi (m,), Jacobian (m, 6(N+1)) in full slots, gamma (m,), -Phi_t (m,). With ``kept_only``
+        primitive kinds without a kept row are skipped (their rows stay zero)."""
         m, size = self.m, 6 * (self.N + 1)
         phi = np.zeros(m)
         jf = np.zeros((m, size)) if jac else None
         gm = np.zeros(m) if gamma else None
-        self.constraints.evaluate(k, phi, jf, gm)
+        self.constraints.evaluate(k, phi, jf, gm, self._kept_groups() if kept_only else None)
         rhs_v = np.zeros(m)
         for r, d in enumerate(self.drivers, start=self.m_primitive):
             value, row, quad = d.coordinate.evaluate(k) if (gamma or jac) else (*d.coordinate.evaluate(k)[:1], None, 0)
@@ -328,18 +329,26 @@ class MultibodyModel:
     def constraint_gamma(self, k: Kin) -> np.ndarray:
         """gamma of the kept rows only (cheaper than :meth:`constraint` when the Jacobian is known)."""
         gm = np.zeros(self.m)
-        self.constraints.evaluate(k, None, None, gm)
+        self.constraints.evaluate(k, None, None, gm, self._kept_groups())
         for r, d in enumerate(self.drivers, start=self.m_primitive):
             gm[r] = d.function.d2(k.t) - d.coordinate.evaluate(k)[2]
         return gm[self.kept]
 
     def constraint(self, k: Kin, *, gamma: bool = True) -> Evaluation:
         """Kept rows, generalised slots."""
-        phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma)
+        phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma, kept_only=True)
+        kept = self.kept
+        self._kept_groups()
+        return Evaluation(phi[kept], jf[self._kept_ix], None if gm is None else gm[kept], rhs[kept])
+
+    def _kept_groups(self) -> list:
+        """Primitive groups with at least one kept row, and the kept block's index (cached per kept set)."""
         kept = self.kept
         if getattr(self, "_kept_key", None) is not kept:
-            self._kept_key, self._kept_ix = kept, np.ix_(kept, self.sel)
-        return Evaluation(phi[kept], jf[self._kept_ix], None if gm is None else gm[kept], rhs[kept])
+            rows = set(kept.tolist())
+            groups = [g for g in self.constraints.active if rows.intersection(g.ROW.ravel().tolist())]
+            self._kept_key, self._kept_ix, self._kept_group_list = kept, np.ix_(kept, self.sel), groups
+        return self._kept_group_list
 
     # ------------------------------------------------------------------ energy
     def kinetic_energy(self, pose: Pose, v: np.ndarray) -> float:

@@ -10,6 +10,8 @@ angular velocities ``w`` are in the world frame, ``dR/dt = S(w) R``. A *rotation
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 _SMALL = 1e-6
@@ -56,6 +58,12 @@ _AXIAL_I, _AXIAL_J = np.array([2, 0, 1]), np.array([1, 2, 0])  # w = (R_21 - R_1
 def log_so3(r: np.ndarray) -> np.ndarray:
     """Rotation vector of rotation matrices ``r`` (..., 3, 3), angle in [0, pi]."""
     r = np.asarray(r, dtype=float)
+    if r.ndim == 2:  # one matrix: plain floats (cheaper than numpy), except near pi
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r.tolist()
+        t = math.acos(min(max((r00 + r11 + r22 - 1) / 2, -1.0), 1.0))
+        if t <= np.pi - 1e-4:
+            factor = 0.5 + t * t / 12 if t < 1e-4 else t / (2 * math.sin(t))
+            return np.array((factor * (r21 - r12), factor * (r02 - r20), factor * (r10 - r01)))
     cos_t = np.clip((r[..., 0, 0] + r[..., 1, 1] + r[..., 2, 2] - 1) / 2, -1.0, 1.0)
     t = np.arccos(cos_t)
     w = r[..., _AXIAL_I, _AXIAL_J] - r[..., _AXIAL_J, _AXIAL_I]
@@ -86,13 +94,17 @@ def log_so3(r: np.ndarray) -> np.ndarray:
 def left_jacobian_inverse(phi: np.ndarray) -> np.ndarray:
     """J_l(phi)^-1: phi' = J_l^-1 w for R = exp(S(phi)), dR/dt = S(w) R."""
     phi = np.asarray(phi, dtype=float)
-    t = _norm(phi)
-    small = t < 1e-4
-    if small.any():
-        ts = np.where(small, 1.0, t)
-        c = np.where(small, 1 / 12 + t**2 / 720, (1 - ts * np.sin(ts) / (2 * (1 - np.cos(ts)))) / ts**2)
+    if phi.ndim == 1:  # one vector: the coefficient in plain floats
+        t = math.sqrt(float(phi @ phi))
+        c = np.float64(1 / 12 + t * t / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / (t * t))
     else:
-        c = (1 - t * np.sin(t) / (2 * (1 - np.cos(t)))) / t**2
+        t = _norm(phi)
+        small = t < 1e-4
+        if small.any():
+            ts = np.where(small, 1.0, t)
+            c = np.where(small, 1 / 12 + t**2 / 720, (1 - ts * np.sin(ts) / (2 * (1 - np.cos(ts)))) / ts**2)
+        else:
+            c = (1 - t * np.sin(t) / (2 * (1 - np.cos(t)))) / t**2
     s = skew(phi)
     return _EYE - 0.5 * s + c[..., None, None] * (s @ s)
 
