@@ -34,6 +34,11 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.add.reduce(a * b, axis=-1)
 
 
+def _centripetal(w: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``w x (w x a) = w (w . a) - a (w . w)`` for stacks of vectors (k, 3)."""
+    return w * _dot(w, a)[:, None] - a * _dot(w, w)[:, None]
+
+
 def _rotate(rot: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``rot @ v`` for stacks of matrices (k, 3, 3) and vectors (k, 3)."""
     return (rot @ v[..., None])[..., 0]
@@ -155,7 +160,7 @@ def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         jac[g.SCATTER] = blocks
     if gamma is not None:
         wi, wj = k.W[g.BI, 3:], k.W[g.BJ, 3:]
-        gamma[g.ROW] = -(_cross(wi, _cross(wi, ai)) - _cross(wj, _cross(wj, aj)))
+        gamma[g.ROW] = _centripetal(wj, aj) - _centripetal(wi, ai)
 
 
 def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
@@ -188,7 +193,7 @@ def _relative_motion(g: PrimitiveGroup, k: Kin, ai: np.ndarray, aj: np.ndarray) 
     vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
     vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
     dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
-    return wi, wj, dd, _cross(wj, _cross(wj, aj)) - _cross(wi, _cross(wi, ai))
+    return wi, wj, dd, _centripetal(wj, aj) - _centripetal(wi, ai)
 
 
 def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:

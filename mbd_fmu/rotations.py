@@ -47,9 +47,30 @@ def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def exp_so3(phi: np.ndarray) -> np.ndarray:
     """Rodrigues: exp(S(phi)) for rotation vectors ``phi`` (..., 3)."""
     phi = np.asarray(phi, dtype=float)
+    if phi.ndim <= 2 and phi.size <= 3 * _FEW:  # a few vectors: plain floats (numpy's per-call cost dominates)
+        out = np.array([_exp_one(p) for p in phi.tolist()] if phi.ndim == 2 else _exp_one(phi.tolist()))
+        return out.reshape(phi.shape[:-1] + (3, 3))
     a, b = _coefficients(_norm(phi))
     s = skew(phi)
     return _EYE + a[..., None, None] * s + b[..., None, None] * (s @ s)
+
+
+_FEW = 4
+
+
+def _exp_one(phi: list[float]) -> list[list[float]]:
+    """exp(S(phi)) of one rotation vector in plain floats: I + a S + b S^2, S^2 = phi phi^T - t^2 I."""
+    x, y, z = phi
+    t2 = x * x + y * y + z * z
+    t = math.sqrt(t2)
+    if t < _SMALL:
+        a, b = 1 - t2 / 6, 0.5 - t2 / 24
+    else:
+        a, b = math.sin(t) / t, (1 - math.cos(t)) / t2
+    bxy, bxz, byz = b * x * y, b * x * z, b * y * z
+    return [[1 + b * (x * x - t2), bxy - a * z, bxz + a * y],
+            [bxy + a * z, 1 + b * (y * y - t2), byz - a * x],
+            [bxz - a * y, byz + a * x, 1 + b * (z * z - t2)]]
 
 
 _AXIAL_I, _AXIAL_J = np.array([2, 0, 1]), np.array([1, 2, 0])  # w = (R_21 - R_12, R_02 - R_20, R_10 - R_01)
