@@ -332,11 +332,16 @@ class Index1(Formulation):
     """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
 
     def step(self, h: float) -> None:
+        kept = self.model.kept
         self.reselect_rows()
         m = self.model
         tab = TABLEAUS[self.settings.integrator]
+        # the first stage is at the current state, whose consistent acceleration is known (same rows)
+        known = self.vdot if m.kept is kept else None
 
         def rates(pose: Pose, v: np.ndarray, t: float):
+            if pose is self.pose and known is not None:
+                return v, known
             return v, self.acceleration(pose, v, t)[0]
 
         pose, v, _ = rkmk_step(tab, self.pose, self.v, self.t, h, rates, m.full)
@@ -373,6 +378,15 @@ class NullSpace(Formulation):
         self.dep = self.ind = None
         self.quality = 0.0
         self.repartitions = 0
+        self._known = None  # independent accelerations at the current state (partition, v_s')
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        super().initialize(pose, v, t, inputs)
+        self._known = None
+
+    def on_restart(self) -> None:
+        super().on_restart()
+        self._known = None
 
     def _choose_partition(self, c: np.ndarray) -> None:
         r = c.shape[0]
@@ -419,22 +433,26 @@ class NullSpace(Formulation):
         kept = self.model.kept
         self.reselect_rows()
         if self.model.kept is not kept:
-            self.dep = None
+            self.dep = self._known = None
         m = self.model
         c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
         if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):
             self._choose_partition(c)
+            self._known = None
         elif self.dep is None:
             self.dep, self.ind = np.arange(0), np.arange(m.n)
         tab = TABLEAUS[self.settings.integrator]
+        known = self._known
 
         def rates(pose: Pose, vs: np.ndarray, t: float):
+            if pose is self.pose and known is not None:  # first stage: the current state, already evaluated
+                return self.v, known
             v, _, vsd = self.reduced_acceleration(pose, vs, t)
             return v, vsd
 
         pose, vs, _ = rkmk_step(tab, self.pose, self.v[self.ind], self.t, h, rates, m.full)
         self.pose = self.correct_dependent(pose, self.t + h)
-        self.v, self.vdot, _ = self.reduced_acceleration(self.pose, vs, self.t + h)
+        self.v, self.vdot, self._known = self.reduced_acceleration(self.pose, vs, self.t + h)
         self.lam = self.multipliers()
         self._finish(h)
 
