@@ -178,10 +178,11 @@ class Formulation:
         m = self.model
         if len(m.kept) == m.m:
             return
-        _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
-        c = jf[:, m.sel]
-        if _row_quality(c[m.kept]) >= 0.5:  # no set can be twice as good: the quality is at most 1
+        k = m.kin(self.pose, self.v, self.t)
+        if _row_quality(m.constraint(k, gamma=False).jac) >= 0.5:  # no set can be twice as good: quality <= 1
             return
+        _, jf, _, _ = m.constraint_full(k, gamma=False)
+        c = jf[:, m.sel]
         kept, _, _ = independent_rows(c, rank=len(m.kept))
         if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
             force = c[m.kept].T @ self.lam

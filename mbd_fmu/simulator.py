@@ -105,8 +105,9 @@ class MultibodySimulator:
         """(dissipated power, power supplied from outside) now."""
         m, f = self.model, self.formulation
         k = self.kin
-        diss = sum(e.dissipation(k) for e in m.elements)
-        supply = sum(e.supply(k) for e in m.elements) + float(f.inputs @ f.v)
+        powers = [e.powers(k) for e in m.elements]
+        diss = sum(p[0] for p in powers)
+        supply = sum(p[1] for p in powers) + float(f.inputs @ f.v)
         if len(f.lam) and m.drivers:  # -Phi_t is non-zero only on driver rows
             supply -= float(f.lam @ m.velocity_rhs(f.t))
         return diss, supply
