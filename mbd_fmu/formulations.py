@@ -227,7 +227,7 @@ class Index3(Formulation):
         ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
         am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
         correction = delta * h * (ap - am) / (2 * eps)
-        if np.max(np.abs(correction)) > 0.5 * np.max(np.abs(self.vdot)) + 1e-12:
+        if np.abs(correction).max() > 0.5 * np.abs(self.vdot).max() + 1e-12:
             # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
             self.stiff_restarts += 1
             return self.vdot.copy()
@@ -243,7 +243,7 @@ class Index3(Formulation):
         vd_n, a_n, v_n = self.vdot, self.a, self.v
         t1 = self.t + h
         vd, lam = vd_n.copy(), self.lam.copy()
-        tol = self.settings.newton_tolerance * max(self.length, float(np.max(np.abs(v_n), initial=0.0)))
+        tol = self.settings.newton_tolerance * max(self.length, float(np.abs(v_n).max(initial=0.0)))
         n = m.n
         scale_c = 1.0 / (h * h * b * zeta)
 
@@ -267,13 +267,13 @@ class Index3(Formulation):
         dx = None
         for it in range(self.settings.max_iterations):
             r, k, mass, ev = residual(vd, lam)
-            r_norm = float(np.max(np.abs(r)))
+            r_norm = float(np.abs(r).max())
             backtracks = 0
             while dx is not None and it >= 2 and r_norm > r_norm_prev and backtracks < 6:
                 dx = 0.5 * dx  # damped Newton: the full step increased the residual
                 vd, lam = vd - dx[:n], lam - dx[n:]
                 r, k, mass, ev = residual(vd, lam)
-                r_norm = float(np.max(np.abs(r)))
+                r_norm = float(np.abs(r).max())
                 backtracks += 1
             r_norm_prev = r_norm
             if lu is None:
@@ -301,7 +301,7 @@ class Index3(Formulation):
             self.newton_iterations += 1
             # largest correction of the step's positions or velocities (velocities dominate for h < 1 s;
             # an acceleration error would otherwise accumulate in v over many small steps)
-            size = max(h * h * b, h * g) * zeta * float(np.max(np.abs(dx[:n]))) if n else 0.0
+            size = max(h * h * b, h * g) * zeta * float(np.abs(dx[:n]).max()) if n else 0.0
             if size <= 1e-2 * tol:
                 break
             if previous is not None and previous > 0:
@@ -357,7 +357,7 @@ class Index1(Formulation):
         tol = 1e-3 * self.settings.newton_tolerance * self.length
         for _ in range(self.settings.max_iterations):
             ev = m.constraint(m.kin(pose, v, t), gamma=False)
-            if ev.phi.size == 0 or np.max(np.abs(ev.phi)) <= tol:
+            if ev.phi.size == 0 or np.abs(ev.phi).max() <= tol:
                 break
             c = ev.jac
             winv_ct = np.linalg.solve(w, c.T)
@@ -465,7 +465,7 @@ class NullSpace(Formulation):
         tol = 1e-3 * self.settings.newton_tolerance * self.length
         for _ in range(self.settings.max_iterations):
             ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
-            if np.max(np.abs(ev.phi)) <= tol:
+            if np.abs(ev.phi).max() <= tol:
                 return pose
             delta = np.zeros(m.n)
             delta[self.dep] = -np.linalg.solve(ev.jac[:, self.dep], ev.phi)
