@@ -70,6 +70,8 @@ class PrimitiveGroup:
         self.ROW = (np.array(self.rows, dtype=int)[:, None] + np.arange(c)[None, :]).reshape(k, c)
         cols = np.concatenate([6 * self.BI[:, None] + np.arange(6), 6 * self.BJ[:, None] + np.arange(6)], axis=1)
         self.COLS = cols  # (k, 12)
+        self.BIJ = np.concatenate([self.BI, self.BJ])  # bodies i then j: one indexing serves both ends
+        self.VIJ = np.concatenate([self.VI, self.VJ])
         self.SCATTER = (np.broadcast_to(self.ROW[:, :, None], (k, c, 12)),
                         np.broadcast_to(cols[:, None, :], (k, c, 12)))
         self.TEMPLATE = np.zeros((k, c, 12))  # constant Jacobian entries (the point's translations)
@@ -148,24 +150,27 @@ def _add_blocks(out: np.ndarray, bi: np.ndarray, bj: np.ndarray, blocks: np.ndar
 
 
 def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    Ri, Rj = k.RR[g.BI], k.RR[g.BJ]
-    ai = _rotate(Ri, g.VI)
-    aj = _rotate(Rj, g.VJ)
+    n = len(g)
+    a = _rotate(k.RR[g.BIJ], g.VIJ)  # offsets a_i (first n rows), then a_j
+    ai, aj = a[:n], a[n:]
     if phi is not None:
-        phi[g.ROW] = k.rr[g.BI] + ai - k.rr[g.BJ] - aj
+        r = k.rr[g.BIJ]
+        phi[g.ROW] = r[:n] + ai - r[n:] - aj
     if jac is not None:
         blocks = g.TEMPLATE.copy()  # translation parts: I and -I
-        blocks[:, :, 3:6] = -_skew(ai)
-        blocks[:, :, 9:12] = _skew(aj)
+        s = _skew(a)
+        blocks[:, :, 3:6] = -s[:n]
+        blocks[:, :, 9:12] = s[n:]
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, wj = k.W[g.BI, 3:], k.W[g.BJ, 3:]
-        gamma[g.ROW] = _centripetal(wj, aj) - _centripetal(wi, ai)
+        c = _centripetal(k.W[g.BIJ, 3:], a)
+        gamma[g.ROW] = c[n:] - c[:n]
 
 
 def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    u = _rotate(k.RR[g.BI], g.VI)
-    w = _rotate(k.RR[g.BJ], g.VJ)
+    n = len(g)
+    uw = _rotate(k.RR[g.BIJ], g.VIJ)
+    u, w = uw[:n], uw[n:]
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(u, w) - g.C0
@@ -176,29 +181,36 @@ def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         blocks[:, 0, 9:12] = -uxw
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, wj = k.W[g.BI, 3:], k.W[g.BJ, 3:]
+        om = k.W[g.BIJ, 3:]
+        wi, wj = om[:n], om[n:]
         d = _cross(_cross(wi, u), w) + _cross(u, _cross(wj, w))
         gamma[rows] = -_dot(d, wi - wj)
 
 
-def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """World offsets of the two points from their cgs and the vector from point i to point j."""
-    ai = _rotate(k.RR[g.BI], g.VI)
-    aj = _rotate(k.RR[g.BJ], g.VJ)
-    return ai, aj, k.rr[g.BJ] + aj - k.rr[g.BI] - ai
+def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """World offsets of the two points from their cgs (stacked: i then j, and each) and the vector from
+    point i to point j."""
+    n = len(g)
+    a = _rotate(k.RR[g.BIJ], g.VIJ)
+    r = k.rr[g.BIJ]
+    ai, aj = a[:n], a[n:]
+    return a, ai, aj, r[n:] + aj - r[:n] - ai
 
 
-def _relative_motion(g: PrimitiveGroup, k: Kin, ai: np.ndarray, aj: np.ndarray) -> tuple:
+def _relative_motion(g: PrimitiveGroup, k: Kin, a: np.ndarray) -> tuple:
     """Angular velocities of both bodies, rate of the point-to-point vector, and its centripetal part."""
-    vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
-    vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
-    dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
-    return wi, wj, dd, _centripetal(wj, aj) - _centripetal(wi, ai)
+    n = len(g)
+    vel = k.W[g.BIJ]
+    om = vel[:, 3:]
+    wxa = _cross(om, a)
+    c = _centripetal(om, a)
+    dd = vel[n:, :3] + wxa[n:] - vel[:n, :3] - wxa[:n]
+    return om[:n], om[n:], dd, c[n:] - c[:n]
 
 
 def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
     n = _rotate(k.RR[g.BI], g.NI)
-    ai, aj, d = _offsets(g, k)
+    a, ai, aj, d = _offsets(g, k)
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(n, d) - g.C0
@@ -210,13 +222,13 @@ def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         blocks[:, 0, 9:12] = _cross(aj, n)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        wi, _, dd, centripetal = _relative_motion(g, k, a)
         quad = _dot(_cross(wi, _cross(wi, n)), d) + 2 * _dot(_cross(wi, n), dd) + _dot(n, centripetal)
         gamma[rows] = -quad
 
 
 def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    ai, aj, d = _offsets(g, k)
+    a, ai, aj, d = _offsets(g, k)
     length = np.sqrt(_dot(d, d))
     e = d / length[:, None]
     rows = g.ROW[:, 0]
@@ -230,7 +242,7 @@ def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
         blocks[:, 0, 9:12] = _cross(aj, e)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        _, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        _, _, dd, centripetal = _relative_motion(g, k, a)
         gamma[rows] = -(_dot(e, centripetal) + (_dot(dd, dd) - _dot(e, dd) ** 2) / length)
 
 

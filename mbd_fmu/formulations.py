@@ -159,7 +159,7 @@ class Formulation:
         """Consistent ``v'`` and ``lambda`` (kept rows) from the saddle-point system."""
         m = self.model
         k = m.kin(pose, v, t)
-        mass = m.mass_matrix(pose)
+        mass = m.mass_matrix(pose, k)
         f = m.forces(k, self.inputs)
         ev = m.constraint(k)
         r = ev.phi.size
@@ -252,7 +252,7 @@ class Index3(Formulation):
             v1 = v_n + h * ((1 - g) * a_n + g * a1)
             pose1 = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
             k = m.kin(pose1, v1, t1)
-            mass = m.mass_matrix(pose1)
+            mass = m.mass_matrix(pose1, k)
             ev = m.constraint(k, gamma=False)
             r1 = mass @ vd - m.forces(k, self.inputs) + ev.jac.T @ lam
             return np.concatenate([r1, ev.phi * scale_c]), k, mass, ev

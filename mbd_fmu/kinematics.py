@@ -39,7 +39,7 @@ class Pose:
 class Kin:
     """Poses and velocities with the ground as body N: ``rr`` (N+1, 3), ``RR`` (N+1, 3, 3), ``W`` (N+1, 6)."""
 
-    __slots__ = ("rr", "RR", "W", "t", "n_bodies")
+    __slots__ = ("rr", "RR", "W", "t", "n_bodies", "world_inertia")
 
     def __init__(self, pose: Pose, w_full: np.ndarray, t: float = 0.0) -> None:
         n = len(pose.r)
@@ -51,6 +51,7 @@ class Kin:
         self.RR[n] = _EYE
         self.W = np.asarray(w_full, dtype=float).reshape(n + 1, 6)
         self.t = t
+        self.world_inertia = None  # (N, 3, 3), set by the model when first needed
 
     def shifted(self, eps: float, w_dot_full: np.ndarray | None = None) -> Kin:
         """The snapshot moved along its own velocity by time ``eps`` (first order), for directional derivatives."""
@@ -61,4 +62,5 @@ class Kin:
         k.RR = exp_so3(eps * self.W[:, 3:]) @ self.RR
         k.W = self.W if w_dot_full is None else self.W + eps * np.asarray(w_dot_full).reshape(n + 1, 6)
         k.t = self.t + eps
+        k.world_inertia = None
         return k

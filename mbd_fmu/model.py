@@ -199,15 +199,20 @@ class MultibodyModel:
         return Pose(self.cg + x[:, :3], exp_so3(x[:, 3:]))
 
     # ------------------------------------------------------------------ dynamics
-    def mass_matrix(self, pose: Pose) -> np.ndarray:
-        """(n, n) structural mass plus A_inf, in generalised slots."""
+    def mass_matrix(self, pose: Pose, k: Kin | None = None) -> np.ndarray:
+        """(n, n) structural mass plus A_inf, in generalised slots (``k``: a snapshot at ``pose`` whose world
+        inertia is reused)."""
         if not hasattr(self, "_mass_index"):
             self._build_mass_index()
         m = self._mass_constant.copy()
         if self._rotating:
             rows, cols, b, lr, lc = self._mass_index
-            r = pose.R
-            m[rows, cols] += (r @ self.inertia @ np.transpose(r, (0, 2, 1)))[b, lr, lc]
+            if k is not None:
+                iw = self.world_inertia(k)
+            else:
+                r = pose.R
+                iw = r @ self.inertia @ np.transpose(r, (0, 2, 1))
+            m[rows, cols] += iw[b, lr, lc]
         return m
 
     def _build_mass_index(self) -> None:
@@ -256,8 +261,11 @@ class MultibodyModel:
         return kf[np.ix_(s, s)], df[np.ix_(s, s)]
 
     def world_inertia(self, k: Kin) -> np.ndarray:
-        """(N, 3, 3) inertia tensors in world axes, ``R I_0 R^T``."""
-        return k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
+        """(N, 3, 3) inertia tensors in world axes, ``R I_0 R^T`` (kept on the snapshot)."""
+        if k.world_inertia is None:
+            r = k.RR[: self.N]
+            k.world_inertia = r @ self.inertia @ np.transpose(r, (0, 2, 1))
+        return k.world_inertia
 
     def _rotation_blocks(self, blocks: np.ndarray | None) -> np.ndarray:
         """(n, n) matrix with per-body 3x3 ``blocks`` on the rotation slots (zero if None)."""

@@ -79,6 +79,8 @@ _AXIAL_I, _AXIAL_J = np.array([2, 0, 1]), np.array([1, 2, 0])  # w = (R_21 - R_1
 def log_so3(r: np.ndarray) -> np.ndarray:
     """Rotation vector of rotation matrices ``r`` (..., 3, 3), angle in [0, pi]."""
     r = np.asarray(r, dtype=float)
+    if r.ndim == 3 and 0 < len(r) <= _FEW:  # a few matrices: one by one in plain floats
+        return np.array([log_so3(m) for m in r])
     if r.ndim == 2:  # one matrix: plain floats (cheaper than numpy), except near pi
         (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r.tolist()
         t = math.acos(min(max((r00 + r11 + r22 - 1) / 2, -1.0), 1.0))
@@ -115,9 +117,15 @@ def log_so3(r: np.ndarray) -> np.ndarray:
 def left_jacobian_inverse(phi: np.ndarray) -> np.ndarray:
     """J_l(phi)^-1: phi' = J_l^-1 w for R = exp(S(phi)), dR/dt = S(w) R."""
     phi = np.asarray(phi, dtype=float)
-    if phi.ndim == 1:  # one vector: the coefficient in plain floats
-        t = math.sqrt(float(phi @ phi))
-        c = np.float64(1 / 12 + t * t / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / (t * t))
+    if phi.ndim == 1:  # one vector: plain floats, S^2 = phi phi^T - t^2 I
+        x, y, z = phi.tolist()
+        t2 = x * x + y * y + z * z
+        t = math.sqrt(t2)
+        c = 1 / 12 + t2 / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / t2
+        cxy, cxz, cyz = c * x * y, c * x * z, c * y * z
+        return np.array([[1 + c * (x * x - t2), cxy + 0.5 * z, cxz - 0.5 * y],
+                         [cxy - 0.5 * z, 1 + c * (y * y - t2), cyz + 0.5 * x],
+                         [cxz + 0.5 * y, cyz - 0.5 * x, 1 + c * (z * z - t2)]])
     else:
         t = _norm(phi)
         small = t < 1e-4

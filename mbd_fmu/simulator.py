@@ -89,9 +89,9 @@ class MultibodySimulator:
     def time(self) -> float:
         return self.formulation.t
 
-    def displacement(self) -> np.ndarray:
-        """x on the model's coordinates: (n,)."""
-        d = self.model.displacement(self.formulation.pose)
+    def displacement(self, d: np.ndarray | None = None) -> np.ndarray:
+        """x on the model's coordinates: (n,), from the bodies' displacements ``d`` (N, 6) if already known."""
+        d = self.model.displacement(self.formulation.pose) if d is None else d
         return np.array([d[self.model.index(b), dof] for b, dof in self.model.coordinates])
 
     def velocity(self) -> np.ndarray:
