@@ -31,7 +31,17 @@ ROWS = {"point": 3, "perp": 1, "plane": 1, "distance": 1}
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...k,...k->...", a, b)
+    return np.add.reduce(a * b, axis=-1)
+
+
+def _centripetal(w: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``w x (w x a) = w (w . a) - a (w . w)`` for stacks of vectors (k, 3)."""
+    return w * _dot(w, a)[:, None] - a * _dot(w, w)[:, None]
+
+
+def _rotate(rot: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``rot @ v`` for stacks of matrices (k, 3, 3) and vectors (k, 3)."""
+    return (rot @ v[..., None])[..., 0]
 
 
 @dataclass
@@ -60,8 +70,14 @@ class PrimitiveGroup:
         self.ROW = (np.array(self.rows, dtype=int)[:, None] + np.arange(c)[None, :]).reshape(k, c)
         cols = np.concatenate([6 * self.BI[:, None] + np.arange(6), 6 * self.BJ[:, None] + np.arange(6)], axis=1)
         self.COLS = cols  # (k, 12)
+        self.BIJ = np.concatenate([self.BI, self.BJ])  # bodies i then j: one indexing serves both ends
+        self.VIJ = np.concatenate([self.VI, self.VJ])
         self.SCATTER = (np.broadcast_to(self.ROW[:, :, None], (k, c, 12)),
                         np.broadcast_to(cols[:, None, :], (k, c, 12)))
+        self.TEMPLATE = np.zeros((k, c, 12))  # constant Jacobian entries (the point's translations)
+        if self.kind == "point":
+            self.TEMPLATE[:, :, 0:3] = np.eye(3)
+            self.TEMPLATE[:, :, 6:9] = -np.eye(3)
 
     def __len__(self) -> int:
         return len(self.bi)
@@ -100,14 +116,14 @@ class ConstraintSet:
         if len(g):
             eye = np.eye(3)
             for sign, b, v in ((1.0, g.BI, g.VI), (-1.0, g.BJ, g.VJ)):
-                a = np.einsum("kab,kb->ka", k.RR[b], v)
+                a = _rotate(k.RR[b], v)
                 lk = lam[g.ROW]
                 blocks = sign * (a[:, :, None] * lk[:, None, :] - _dot(a, lk)[:, None, None] * eye)
                 _add_blocks(out, b, b, blocks)
         g = self.groups["perp"]
         if len(g):
-            u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-            w = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+            u = _rotate(k.RR[g.BI], g.VI)
+            w = _rotate(k.RR[g.BJ], g.VJ)
             lk = lam[g.ROW[:, 0]]
             uw = _dot(u, w)[:, None, None] * np.eye(3)
             ii = lk[:, None, None] * (u[:, :, None] * w[:, None, :] - uw)
@@ -117,9 +133,11 @@ class ConstraintSet:
             _add_blocks(out, g.BJ, g.BI, -ii)
             _add_blocks(out, g.BJ, g.BJ, -ij)
 
-    def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None) -> None:
-        """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None)."""
-        for g in self.active:
+    def evaluate(self, k: Kin, phi: np.ndarray, jac: np.ndarray | None, gamma: np.ndarray | None,
+                 groups: list[PrimitiveGroup] | None = None) -> None:
+        """Fill ``phi`` (m,), ``jac`` (m, 6(N+1)) and ``gamma`` (m,) in place (any may be None) for the rows of
+        ``groups`` (default: all)."""
+        for g in self.active if groups is None else groups:
             _EVALUATORS[g.kind](g, k, phi, jac, gamma)
 
 
@@ -132,93 +150,99 @@ def _add_blocks(out: np.ndarray, bi: np.ndarray, bj: np.ndarray, blocks: np.ndar
 
 
 def _point(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    Ri, Rj = k.RR[g.BI], k.RR[g.BJ]
-    ai = np.einsum("kab,kb->ka", Ri, g.VI)
-    aj = np.einsum("kab,kb->ka", Rj, g.VJ)
+    n = len(g)
+    a = _rotate(k.RR[g.BIJ], g.VIJ)  # offsets a_i (first n rows), then a_j
+    ai, aj = a[:n], a[n:]
     if phi is not None:
-        phi[g.ROW] = k.rr[g.BI] + ai - k.rr[g.BJ] - aj
+        r = k.rr[g.BIJ]
+        phi[g.ROW] = r[:n] + ai - r[n:] - aj
     if jac is not None:
-        n = len(g)
-        blocks = np.zeros((n, 3, 12))
-        eye = np.eye(3)
-        blocks[:, :, 0:3] = eye
-        blocks[:, :, 3:6] = -_skew(ai)
-        blocks[:, :, 6:9] = -eye
-        blocks[:, :, 9:12] = _skew(aj)
+        blocks = g.TEMPLATE.copy()  # translation parts: I and -I
+        s = _skew(a)
+        blocks[:, :, 3:6] = -s[:n]
+        blocks[:, :, 9:12] = s[n:]
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, wj = k.W[g.BI, 3:], k.W[g.BJ, 3:]
-        gamma[g.ROW] = -(_cross(wi, _cross(wi, ai)) - _cross(wj, _cross(wj, aj)))
+        c = _centripetal(k.W[g.BIJ, 3:], a)
+        gamma[g.ROW] = c[n:] - c[:n]
 
 
 def _perp(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    u = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-    w = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
+    n = len(g)
+    uw = _rotate(k.RR[g.BIJ], g.VIJ)
+    u, w = uw[:n], uw[n:]
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(u, w) - g.C0
     uxw = _cross(u, w)
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 3:6] = uxw
         blocks[:, 0, 9:12] = -uxw
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, wj = k.W[g.BI, 3:], k.W[g.BJ, 3:]
+        om = k.W[g.BIJ, 3:]
+        wi, wj = om[:n], om[n:]
         d = _cross(_cross(wi, u), w) + _cross(u, _cross(wj, w))
         gamma[rows] = -_dot(d, wi - wj)
 
 
-def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """World offsets of the two points from their cgs and the vector from point i to point j."""
-    ai = np.einsum("kab,kb->ka", k.RR[g.BI], g.VI)
-    aj = np.einsum("kab,kb->ka", k.RR[g.BJ], g.VJ)
-    return ai, aj, k.rr[g.BJ] + aj - k.rr[g.BI] - ai
+def _offsets(g: PrimitiveGroup, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """World offsets of the two points from their cgs (stacked: i then j, and each) and the vector from
+    point i to point j."""
+    n = len(g)
+    a = _rotate(k.RR[g.BIJ], g.VIJ)
+    r = k.rr[g.BIJ]
+    ai, aj = a[:n], a[n:]
+    return a, ai, aj, r[n:] + aj - r[:n] - ai
 
 
-def _relative_motion(g: PrimitiveGroup, k: Kin, ai: np.ndarray, aj: np.ndarray) -> tuple:
+def _relative_motion(g: PrimitiveGroup, k: Kin, a: np.ndarray) -> tuple:
     """Angular velocities of both bodies, rate of the point-to-point vector, and its centripetal part."""
-    vi, wi = k.W[g.BI, :3], k.W[g.BI, 3:]
-    vj, wj = k.W[g.BJ, :3], k.W[g.BJ, 3:]
-    dd = vj + _cross(wj, aj) - vi - _cross(wi, ai)
-    return wi, wj, dd, _cross(wj, _cross(wj, aj)) - _cross(wi, _cross(wi, ai))
+    n = len(g)
+    vel = k.W[g.BIJ]
+    om = vel[:, 3:]
+    wxa = _cross(om, a)
+    c = _centripetal(om, a)
+    dd = vel[n:, :3] + wxa[n:] - vel[:n, :3] - wxa[:n]
+    return om[:n], om[n:], dd, c[n:] - c[:n]
 
 
 def _plane(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    n = np.einsum("kab,kb->ka", k.RR[g.BI], g.NI)
-    ai, aj, d = _offsets(g, k)
+    n = _rotate(k.RR[g.BI], g.NI)
+    a, ai, aj, d = _offsets(g, k)
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = _dot(n, d) - g.C0
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 0:3] = -n
         blocks[:, 0, 3:6] = _cross(n, d + ai)
         blocks[:, 0, 6:9] = n
         blocks[:, 0, 9:12] = _cross(aj, n)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        wi, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        wi, _, dd, centripetal = _relative_motion(g, k, a)
         quad = _dot(_cross(wi, _cross(wi, n)), d) + 2 * _dot(_cross(wi, n), dd) + _dot(n, centripetal)
         gamma[rows] = -quad
 
 
 def _distance(g: PrimitiveGroup, k: Kin, phi, jac, gamma) -> None:
-    ai, aj, d = _offsets(g, k)
-    length = np.linalg.norm(d, axis=1)
+    a, ai, aj, d = _offsets(g, k)
+    length = np.sqrt(_dot(d, d))
     e = d / length[:, None]
     rows = g.ROW[:, 0]
     if phi is not None:
         phi[rows] = length - g.C0
     if jac is not None:
-        blocks = np.zeros((len(g), 1, 12))
+        blocks = g.TEMPLATE.copy()
         blocks[:, 0, 0:3] = -e
         blocks[:, 0, 3:6] = -_cross(ai, e)
         blocks[:, 0, 6:9] = e
         blocks[:, 0, 9:12] = _cross(aj, e)
         jac[g.SCATTER] = blocks
     if gamma is not None:
-        _, _, dd, centripetal = _relative_motion(g, k, ai, aj)
+        _, _, dd, centripetal = _relative_motion(g, k, a)
         gamma[rows] = -(_dot(e, centripetal) + (_dot(dd, dd) - _dot(e, dd) ** 2) / length)
 
 

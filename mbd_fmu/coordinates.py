@@ -33,7 +33,12 @@ class Coordinate:
     bj: int
 
     def cols(self) -> np.ndarray:
-        return np.concatenate([6 * self.bi + np.arange(6), 6 * self.bj + np.arange(6)])
+        """The twelve full slot indices of bodies i and j (built once)."""
+        try:
+            return self._cols
+        except AttributeError:
+            self._cols = np.concatenate([6 * self.bi + np.arange(6), 6 * self.bj + np.arange(6)])
+            return self._cols
 
     def evaluate(self, k: Kin) -> tuple[float, np.ndarray, float]:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -70,15 +75,13 @@ class Slide(Coordinate):
     offset: float = 0.0
 
     def evaluate(self, k: Kin) -> tuple[float, np.ndarray, float]:
-        Ri, Rj = k.RR[self.bi], k.RR[self.bj]
-        n, ai, aj = Ri @ self.n, Ri @ self.si, Rj @ self.sj
-        d = k.rr[self.bj] + aj - k.rr[self.bi] - ai
-        jac = np.concatenate([-n, cross(n, d + ai), n, cross(aj, n)])
-        vi, wi, vj, wj = k.W[self.bi, :3], k.W[self.bi, 3:], k.W[self.bj, :3], k.W[self.bj, 3:]
-        dd = vj + cross(wj, aj) - vi - cross(wi, ai)
-        quad = (cross(wi, cross(wi, n)) @ d + 2 * cross(wi, n) @ dd
-                + n @ (cross(wj, cross(wj, aj)) - cross(wi, cross(wi, ai))))
-        return float(n @ d - self.offset), jac, float(quad)
+        n = (k.RR[self.bi] @ self.n).tolist()
+        ai, aj, d, wi, wj, dd = _two_points(k, self.bi, self.bj, self.si, self.sj)
+        win = _cross3(wi, n)
+        jac = np.array((*_neg3(n), *_cross3(n, _add3(d, ai)), *n, *_cross3(aj, n)))
+        centripetal = _sub3(_cross3(wj, _cross3(wj, aj)), _cross3(wi, _cross3(wi, ai)))
+        quad = _dot3(_cross3(wi, win), d) + 2 * _dot3(win, dd) + _dot3(n, centripetal)
+        return _dot3(n, d) - self.offset, jac, quad
 
 
 @dataclass
@@ -91,15 +94,57 @@ class Distance(Coordinate):
     sj: np.ndarray
 
     def evaluate(self, k: Kin) -> tuple[float, np.ndarray, float]:
-        ai, aj = k.RR[self.bi] @ self.si, k.RR[self.bj] @ self.sj
-        d = k.rr[self.bj] + aj - k.rr[self.bi] - ai
-        length = float(np.linalg.norm(d))
-        e = d / length
-        jac = np.concatenate([-e, -cross(ai, e), e, cross(aj, e)])
-        vi, wi, vj, wj = k.W[self.bi, :3], k.W[self.bi, 3:], k.W[self.bj, :3], k.W[self.bj, 3:]
-        dd = vj + cross(wj, aj) - vi - cross(wi, ai)
-        quad = e @ (cross(wj, cross(wj, aj)) - cross(wi, cross(wi, ai))) + (dd @ dd - (e @ dd) ** 2) / length
-        return length, jac, float(quad)
+        length, e, ai, aj, wi, wj, dd = self._state(k)
+        jac = np.array((*_neg3(e), *_neg3(_cross3(ai, e)), *e, *_cross3(aj, e)))
+        centripetal = _sub3(_cross3(wj, _cross3(wj, aj)), _cross3(wi, _cross3(wi, ai)))
+        ed = _dot3(e, dd)
+        quad = _dot3(e, centripetal) + (_dot3(dd, dd) - ed * ed) / length
+        return length, jac, quad
+
+    def rate(self, k: Kin) -> tuple[float, float, np.ndarray]:
+        """Value, time derivative ``e . (relative velocity of the points)`` and Jacobian."""
+        length, e, ai, aj, _, _, dd = self._state(k)
+        jac = np.array((*_neg3(e), *_neg3(_cross3(ai, e)), *e, *_cross3(aj, e)))
+        return length, _dot3(e, dd), jac
+
+    def _state(self, k: Kin) -> tuple:
+        """Length, unit vector from point i to j, offsets, angular velocities and relative velocity (floats)."""
+        ai, aj, d, wi, wj, dd = _two_points(k, self.bi, self.bj, self.si, self.sj)
+        length = math.sqrt(_dot3(d, d))
+        e = (d[0] / length, d[1] / length, d[2] / length)
+        return length, e, ai, aj, wi, wj, dd
+
+
+def _two_points(k: Kin, bi: int, bj: int, si: np.ndarray, sj: np.ndarray) -> tuple:
+    """Plain-float kinematics (3-tuples, cheaper than numpy for single vectors) of body-fixed points ``s_i``,
+    ``s_j``: world offsets ``a = R s`` from the cgs, ``d = p_j - p_i``, angular velocities and ``d'``."""
+    ai, aj = (k.RR[bi] @ si).tolist(), (k.RR[bj] @ sj).tolist()
+    ri, rj = k.rr[bi].tolist(), k.rr[bj].tolist()
+    vi, vj = k.W[bi].tolist(), k.W[bj].tolist()
+    wi, wj = vi[3:], vj[3:]
+    d = _sub3(_add3(rj, aj), _add3(ri, ai))
+    dd = _sub3(_add3(vj, _cross3(wj, aj)), _add3(vi, _cross3(wi, ai)))
+    return ai, aj, d, wi, wj, dd
+
+
+def _cross3(a, b) -> tuple[float, float, float]:
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
+def _dot3(a, b) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _add3(a, b) -> tuple[float, float, float]:
+    return a[0] + b[0], a[1] + b[1], a[2] + b[2]
+
+
+def _sub3(a, b) -> tuple[float, float, float]:
+    return a[0] - b[0], a[1] - b[1], a[2] - b[2]
+
+
+def _neg3(a) -> tuple[float, float, float]:
+    return -a[0], -a[1], -a[2]
 
 
 @dataclass

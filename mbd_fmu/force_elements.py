@@ -86,6 +86,10 @@ class ForceElement:
     def supply(self, k: Kin) -> float:
         return 0.0
 
+    def powers(self, k: Kin) -> tuple[float, float]:
+        """``(dissipation, supply)`` (W) in one evaluation where the element can share the work."""
+        return self.dissipation(k), self.supply(k)
+
     def output(self, k: Kin) -> np.ndarray:
         """Force components reported as FMU outputs."""
         return np.zeros(0)
@@ -192,6 +196,10 @@ class CoordinateSpringDamper(ForceElement):
     def supply(self, k: Kin) -> float:
         _, v, _ = self.state(k)
         return self.force_command * v
+
+    def powers(self, k: Kin) -> tuple[float, float]:
+        _, v, _ = self.state(k)
+        return self.damping * v * v, self.force_command * v
 
     def power(self, k: Kin) -> float:
         """Power absorbed from the bodies, ``-F q'`` (W)."""

@@ -159,14 +159,13 @@ class Formulation:
         """Consistent ``v'`` and ``lambda`` (kept rows) from the saddle-point system."""
         m = self.model
         k = m.kin(pose, v, t)
-        mass = m.mass_matrix(pose)
+        mass = m.mass_matrix(pose, k)
         f = m.forces(k, self.inputs)
         ev = m.constraint(k)
         r = ev.phi.size
         if r == 0:
             return np.linalg.solve(mass, f), np.zeros(0)
-        kkt = np.block([[mass, ev.jac.T], [ev.jac, np.zeros((r, r))]])
-        x = np.linalg.solve(kkt, np.concatenate([f, ev.gamma]))
+        x = np.linalg.solve(_saddle_point(mass, ev.jac), np.concatenate([f, ev.gamma]))
         return x[: m.n], x[m.n:]
 
     def step(self, h: float) -> None:  # pragma: no cover - abstract
@@ -179,7 +178,10 @@ class Formulation:
         m = self.model
         if len(m.kept) == m.m:
             return
-        _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
+        k = m.kin(self.pose, self.v, self.t)
+        if _row_quality(m.constraint(k, gamma=False).jac) >= 0.5:  # no set can be twice as good: quality <= 1
+            return
+        _, jf, _, _ = m.constraint_full(k, gamma=False)
         c = jf[:, m.sel]
         kept, _, _ = independent_rows(c, rank=len(m.kept))
         if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
@@ -225,7 +227,7 @@ class Index3(Formulation):
         ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
         am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
         correction = delta * h * (ap - am) / (2 * eps)
-        if np.max(np.abs(correction)) > 0.5 * np.max(np.abs(self.vdot)) + 1e-12:
+        if np.abs(correction).max() > 0.5 * np.abs(self.vdot).max() + 1e-12:
             # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
             self.stiff_restarts += 1
             return self.vdot.copy()
@@ -241,7 +243,7 @@ class Index3(Formulation):
         vd_n, a_n, v_n = self.vdot, self.a, self.v
         t1 = self.t + h
         vd, lam = vd_n.copy(), self.lam.copy()
-        tol = self.settings.newton_tolerance * max(self.length, float(np.max(np.abs(v_n), initial=0.0)))
+        tol = self.settings.newton_tolerance * max(self.length, float(np.abs(v_n).max(initial=0.0)))
         n = m.n
         scale_c = 1.0 / (h * h * b * zeta)
 
@@ -250,7 +252,7 @@ class Index3(Formulation):
             v1 = v_n + h * ((1 - g) * a_n + g * a1)
             pose1 = self.pose.retract(m.full(h * (v_n + h * ((0.5 - b) * a_n + b * a1))))
             k = m.kin(pose1, v1, t1)
-            mass = m.mass_matrix(pose1)
+            mass = m.mass_matrix(pose1, k)
             ev = m.constraint(k, gamma=False)
             r1 = mass @ vd - m.forces(k, self.inputs) + ev.jac.T @ lam
             return np.concatenate([r1, ev.phi * scale_c]), k, mass, ev
@@ -265,13 +267,13 @@ class Index3(Formulation):
         dx = None
         for it in range(self.settings.max_iterations):
             r, k, mass, ev = residual(vd, lam)
-            r_norm = float(np.max(np.abs(r)))
+            r_norm = float(np.abs(r).max())
             backtracks = 0
             while dx is not None and it >= 2 and r_norm > r_norm_prev and backtracks < 6:
                 dx = 0.5 * dx  # damped Newton: the full step increased the residual
                 vd, lam = vd - dx[:n], lam - dx[n:]
                 r, k, mass, ev = residual(vd, lam)
-                r_norm = float(np.max(np.abs(r)))
+                r_norm = float(np.abs(r).max())
                 backtracks += 1
             r_norm_prev = r_norm
             if lu is None:
@@ -292,14 +294,14 @@ class Index3(Formulation):
                     kt = kt + m.inertial_stiffness(k, vd) + m.geometric_stiffness(k, lam)
                     dt = dt + m.gyroscopic_damping(k)
                     s = mass + h * g * zeta * dt + h * h * b * zeta * kt
-                    lu = Factorized(np.block([[s, ev.jac.T], [ev.jac, np.zeros((r_, r_))]]))
+                    lu = Factorized(_saddle_point(s, ev.jac))
             dx = lu.solve(-r)
             vd = vd + dx[:n]
             lam = lam + dx[n:]
             self.newton_iterations += 1
             # largest correction of the step's positions or velocities (velocities dominate for h < 1 s;
             # an acceleration error would otherwise accumulate in v over many small steps)
-            size = max(h * h * b, h * g) * zeta * float(np.max(np.abs(dx[:n]))) if n else 0.0
+            size = max(h * h * b, h * g) * zeta * float(np.abs(dx[:n]).max()) if n else 0.0
             if size <= 1e-2 * tol:
                 break
             if previous is not None and previous > 0:
@@ -331,11 +333,16 @@ class Index1(Formulation):
     """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
 
     def step(self, h: float) -> None:
+        kept = self.model.kept
         self.reselect_rows()
         m = self.model
         tab = TABLEAUS[self.settings.integrator]
+        # the first stage is at the current state, whose consistent acceleration is known (same rows)
+        known = self.vdot if m.kept is kept else None
 
         def rates(pose: Pose, v: np.ndarray, t: float):
+            if pose is self.pose and known is not None:
+                return v, known
             return v, self.acceleration(pose, v, t)[0]
 
         pose, v, _ = rkmk_step(tab, self.pose, self.v, self.t, h, rates, m.full)
@@ -350,7 +357,7 @@ class Index1(Formulation):
         tol = 1e-3 * self.settings.newton_tolerance * self.length
         for _ in range(self.settings.max_iterations):
             ev = m.constraint(m.kin(pose, v, t), gamma=False)
-            if ev.phi.size == 0 or np.max(np.abs(ev.phi)) <= tol:
+            if ev.phi.size == 0 or np.abs(ev.phi).max() <= tol:
                 break
             c = ev.jac
             winv_ct = np.linalg.solve(w, c.T)
@@ -372,6 +379,15 @@ class NullSpace(Formulation):
         self.dep = self.ind = None
         self.quality = 0.0
         self.repartitions = 0
+        self._known = None  # independent accelerations at the current state (partition, v_s')
+
+    def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        super().initialize(pose, v, t, inputs)
+        self._known = None
+
+    def on_restart(self) -> None:
+        super().on_restart()
+        self._known = None
 
     def _choose_partition(self, c: np.ndarray) -> None:
         r = c.shape[0]
@@ -386,29 +402,29 @@ class NullSpace(Formulation):
         u = np.abs(np.diag(lu_factor(c[:, self.dep])[0]))
         return float(u.min() / max(np.max(np.abs(c)), 1e-300))
 
-    def basis(self, c: np.ndarray) -> tuple[np.ndarray, object]:
-        """P (n, n - r) for the current partition and the LU factors of C_d."""
+    def basis(self, c: np.ndarray) -> tuple[np.ndarray, Factorized | None]:
+        """P (n, n - r) for the current partition and C_d ready for solves (None without constraints)."""
         n = self.model.n
         p = np.zeros((n, len(self.ind)))
         p[self.ind, np.arange(len(self.ind))] = 1.0
         if not len(self.dep):
             return p, None
-        lu = lu_factor(c[:, self.dep])
-        p[self.dep] = -lu_solve(lu, c[:, self.ind])
-        return p, lu
+        cd = Factorized(c[:, self.dep])
+        p[self.dep] = -cd.solve(c[:, self.ind])
+        return p, cd
 
     def reduced_acceleration(self, pose: Pose, vs: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Full velocity, full acceleration and the independent accelerations at ``(pose, v_s)``."""
         m = self.model
         ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
-        p, lu = self.basis(ev.jac)
+        p, cd = self.basis(ev.jac)
         v = p @ vs
-        if lu is not None:
-            v[self.dep] += lu_solve(lu, ev.rhs_v)
+        if cd is not None:
+            v[self.dep] += cd.solve(ev.rhs_v)
         k = m.kin(pose, v, t)
         rho = np.zeros(m.n)
-        if lu is not None:
-            rho[self.dep] = lu_solve(lu, m.constraint_gamma(k))
+        if cd is not None:
+            rho[self.dep] = cd.solve(m.constraint_gamma(k))
         mass = m.mass_matrix(pose)
         f = m.forces(k, self.inputs)
         vsd = np.linalg.solve(p.T @ mass @ p, p.T @ (f - mass @ rho))
@@ -418,22 +434,26 @@ class NullSpace(Formulation):
         kept = self.model.kept
         self.reselect_rows()
         if self.model.kept is not kept:
-            self.dep = None
+            self.dep = self._known = None
         m = self.model
         c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
         if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):
             self._choose_partition(c)
+            self._known = None
         elif self.dep is None:
             self.dep, self.ind = np.arange(0), np.arange(m.n)
         tab = TABLEAUS[self.settings.integrator]
+        known = self._known
 
         def rates(pose: Pose, vs: np.ndarray, t: float):
+            if pose is self.pose and known is not None:  # first stage: the current state, already evaluated
+                return self.v, known
             v, _, vsd = self.reduced_acceleration(pose, vs, t)
             return v, vsd
 
         pose, vs, _ = rkmk_step(tab, self.pose, self.v[self.ind], self.t, h, rates, m.full)
         self.pose = self.correct_dependent(pose, self.t + h)
-        self.v, self.vdot, _ = self.reduced_acceleration(self.pose, vs, self.t + h)
+        self.v, self.vdot, self._known = self.reduced_acceleration(self.pose, vs, self.t + h)
         self.lam = self.multipliers()
         self._finish(h)
 
@@ -445,7 +465,7 @@ class NullSpace(Formulation):
         tol = 1e-3 * self.settings.newton_tolerance * self.length
         for _ in range(self.settings.max_iterations):
             ev = m.constraint(m.kin(pose, np.zeros(m.n), t), gamma=False)
-            if np.max(np.abs(ev.phi)) <= tol:
+            if np.abs(ev.phi).max() <= tol:
                 return pose
             delta = np.zeros(m.n)
             delta[self.dep] = -np.linalg.solve(ev.jac[:, self.dep], ev.phi)
@@ -461,6 +481,16 @@ class NullSpace(Formulation):
             return np.zeros(0)
         res = m.forces(k, self.inputs) - m.mass_matrix(self.pose) @ self.vdot
         return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
+
+
+def _saddle_point(s: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """``[[S, C^T], [C, 0]]``."""
+    n, r = s.shape[0], c.shape[0]
+    out = np.zeros((n + r, n + r))
+    out[:n, :n] = s
+    out[:n, n:] = c.T
+    out[n:, :n] = c
+    return out
 
 
 def _row_quality(rows: np.ndarray) -> float:

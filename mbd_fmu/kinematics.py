@@ -16,6 +16,8 @@ import numpy as np
 
 from .rotations import exp_so3
 
+_EYE = np.eye(3)
+
 
 @dataclass
 class Pose:
@@ -37,15 +39,19 @@ class Pose:
 class Kin:
     """Poses and velocities with the ground as body N: ``rr`` (N+1, 3), ``RR`` (N+1, 3, 3), ``W`` (N+1, 6)."""
 
-    __slots__ = ("rr", "RR", "W", "t", "n_bodies")
+    __slots__ = ("rr", "RR", "W", "t", "n_bodies", "world_inertia")
 
     def __init__(self, pose: Pose, w_full: np.ndarray, t: float = 0.0) -> None:
         n = len(pose.r)
         self.n_bodies = n
-        self.rr = np.vstack([pose.r, np.zeros((1, 3))])
-        self.RR = np.concatenate([pose.R, np.eye(3)[None]], axis=0)
+        self.rr = np.zeros((n + 1, 3))
+        self.rr[:n] = pose.r
+        self.RR = np.empty((n + 1, 3, 3))
+        self.RR[:n] = pose.R
+        self.RR[n] = _EYE
         self.W = np.asarray(w_full, dtype=float).reshape(n + 1, 6)
         self.t = t
+        self.world_inertia = None  # (N, 3, 3), set by the model when first needed
 
     def shifted(self, eps: float, w_dot_full: np.ndarray | None = None) -> Kin:
         """The snapshot moved along its own velocity by time ``eps`` (first order), for directional derivatives."""
@@ -56,4 +62,5 @@ class Kin:
         k.RR = exp_so3(eps * self.W[:, 3:]) @ self.RR
         k.W = self.W if w_dot_full is None else self.W + eps * np.asarray(w_dot_full).reshape(n + 1, 6)
         k.t = self.t + eps
+        k.world_inertia = None
         return k

@@ -199,31 +199,44 @@ class MultibodyModel:
         return Pose(self.cg + x[:, :3], exp_so3(x[:, 3:]))
 
     # ------------------------------------------------------------------ dynamics
-    def mass_matrix(self, pose: Pose) -> np.ndarray:
-        """(n, n) structural mass plus A_inf, in generalised slots."""
+    def mass_matrix(self, pose: Pose, k: Kin | None = None) -> np.ndarray:
+        """(n, n) structural mass plus A_inf, in generalised slots (``k``: a snapshot at ``pose`` whose world
+        inertia is reused)."""
         if not hasattr(self, "_mass_index"):
-            body, local = self.sel // 6, self.sel % 6
-            rows, cols = np.nonzero(body[:, None] == body[None, :])
-            self._mass_index = (rows, cols, body[rows], local[rows], local[cols])
-            self._rotating = bool(np.any(self.inertia))
-        rows, cols, b, lr, lc = self._mass_index
-        blocks = np.zeros((self.N, 6, 6))
-        blocks[:, 0, 0] = blocks[:, 1, 1] = blocks[:, 2, 2] = self.mass
+            self._build_mass_index()
+        m = self._mass_constant.copy()
         if self._rotating:
-            blocks[:, 3:, 3:] = self.world_inertia(self._pose_kin(pose))
-        m = self.added.copy()
-        m[rows, cols] += blocks[b, lr, lc]
+            rows, cols, b, lr, lc = self._mass_index
+            if k is not None:
+                iw = self.world_inertia(k)
+            else:
+                r = pose.R
+                iw = r @ self.inertia @ np.transpose(r, (0, 2, 1))
+            m[rows, cols] += iw[b, lr, lc]
         return m
+
+    def _build_mass_index(self) -> None:
+        """Constant part of the mass matrix (A_inf and the bodies' masses on their translation slots) and
+        the scatter indices of the world inertia's entries on the rotation slots."""
+        body, local = self.sel // 6, self.sel % 6
+        rows, cols = np.nonzero((body[:, None] == body[None, :]) & (local[:, None] >= 3) & (local[None, :] >= 3))
+        self._mass_index = (rows, cols, body[rows], local[rows] - 3, local[cols] - 3)
+        self._rotating = bool(np.any(self.inertia)) and len(rows) > 0
+        translation = np.nonzero(local < 3)[0]
+        self._mass_constant = self.added.copy()
+        self._mass_constant[translation, translation] += self.mass[body[translation]]
 
     def forces_full(self, k: Kin) -> np.ndarray:
         """Generalised force in full slots: gyroscopic, gravity, static loads, force elements."""
-        f = np.zeros(6 * (self.N + 1))
-        fb = f.reshape(self.N + 1, 6)
+        if not hasattr(self, "_constant_force"):
+            self._constant_force = self.static.copy()
+            self._constant_force[: self.N, :3] = self.mass[:, None] * self.gravity + self.static[: self.N, :3]
+        fb = self._constant_force.copy()
         w = k.W[: self.N, 3:]
-        if np.any(w):
-            fb[: self.N, 3:] -= cross(w, np.einsum("kab,kb->ka", self.world_inertia(k), w))
-        fb[: self.N, :3] += self.mass[:, None] * self.gravity
-        fb += self.static
+        if w.any():
+            iw = self.world_inertia(k)
+            fb[: self.N, 3:] -= cross(w, (iw @ w[:, :, None])[:, :, 0])
+        f = fb.reshape(-1)
         for e in self.elements:
             e.apply(k, f)
         return f
@@ -248,8 +261,11 @@ class MultibodyModel:
         return kf[np.ix_(s, s)], df[np.ix_(s, s)]
 
     def world_inertia(self, k: Kin) -> np.ndarray:
-        """(N, 3, 3) inertia tensors in world axes, ``R I_0 R^T``."""
-        return k.RR[: self.N] @ self.inertia @ np.transpose(k.RR[: self.N], (0, 2, 1))
+        """(N, 3, 3) inertia tensors in world axes, ``R I_0 R^T`` (kept on the snapshot)."""
+        if k.world_inertia is None:
+            r = k.RR[: self.N]
+            k.world_inertia = r @ self.inertia @ np.transpose(r, (0, 2, 1))
+        return k.world_inertia
 
     def _rotation_blocks(self, blocks: np.ndarray | None) -> np.ndarray:
         """(n, n) matrix with per-body 3x3 ``blocks`` on the rotation slots (zero if None)."""
@@ -292,13 +308,14 @@ class MultibodyModel:
         return self._rotation_flag
 
     # ------------------------------------------------------------------ constraints
-    def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True) -> tuple:
-        """All rows: Phi (m,), Jacobian (m, 6(N+1)) in full slots, gamma (m,), -Phi_t (m,)."""
+    def constraint_full(self, k: Kin, *, gamma: bool = True, jac: bool = True, kept_only: bool = False) -> tuple:
+        """All rows: Phi (m,), Jacobian (m, 6(N+1)) in full slots, gamma (m,), -Phi_t (m,). With ``kept_only``
+        primitive kinds without a kept row are skipped (their rows stay zero)."""
         m, size = self.m, 6 * (self.N + 1)
         phi = np.zeros(m)
         jf = np.zeros((m, size)) if jac else None
         gm = np.zeros(m) if gamma else None
-        self.constraints.evaluate(k, phi, jf, gm)
+        self.constraints.evaluate(k, phi, jf, gm, self._kept_groups() if kept_only else None)
         rhs_v = np.zeros(m)
         for r, d in enumerate(self.drivers, start=self.m_primitive):
             value, row, quad = d.coordinate.evaluate(k) if (gamma or jac) else (*d.coordinate.evaluate(k)[:1], None, 0)
@@ -310,21 +327,36 @@ class MultibodyModel:
                 gm[r] = d.function.d2(k.t) - quad
         return phi, jf, gm, rhs_v
 
+    def velocity_rhs(self, t: float) -> np.ndarray:
+        """``-Phi_t`` of the kept rows at time ``t`` (non-zero only on driver rows)."""
+        rhs_v = np.zeros(self.m)
+        for r, d in enumerate(self.drivers, start=self.m_primitive):
+            rhs_v[r] = d.function.d1(t)
+        return rhs_v[self.kept]
+
     def constraint_gamma(self, k: Kin) -> np.ndarray:
         """gamma of the kept rows only (cheaper than :meth:`constraint` when the Jacobian is known)."""
         gm = np.zeros(self.m)
-        self.constraints.evaluate(k, None, None, gm)
+        self.constraints.evaluate(k, None, None, gm, self._kept_groups())
         for r, d in enumerate(self.drivers, start=self.m_primitive):
             gm[r] = d.function.d2(k.t) - d.coordinate.evaluate(k)[2]
         return gm[self.kept]
 
     def constraint(self, k: Kin, *, gamma: bool = True) -> Evaluation:
         """Kept rows, generalised slots."""
-        phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma)
+        phi, jf, gm, rhs = self.constraint_full(k, gamma=gamma, kept_only=True)
+        kept = self.kept
+        self._kept_groups()
+        return Evaluation(phi[kept], jf[self._kept_ix], None if gm is None else gm[kept], rhs[kept])
+
+    def _kept_groups(self) -> list:
+        """Primitive groups with at least one kept row, and the kept block's index (cached per kept set)."""
         kept = self.kept
         if getattr(self, "_kept_key", None) is not kept:
-            self._kept_key, self._kept_ix = kept, np.ix_(kept, self.sel)
-        return Evaluation(phi[kept], jf[self._kept_ix], None if gm is None else gm[kept], rhs[kept])
+            rows = set(kept.tolist())
+            groups = [g for g in self.constraints.active if rows.intersection(g.ROW.ravel().tolist())]
+            self._kept_key, self._kept_ix, self._kept_group_list = kept, np.ix_(kept, self.sel), groups
+        return self._kept_group_list
 
     # ------------------------------------------------------------------ energy
     def kinetic_energy(self, pose: Pose, v: np.ndarray) -> float:

@@ -44,7 +44,8 @@ class LinearMooring(ForceElement):
         g = -self.stiffness @ x
         if self.damping is not None:
             g = g - self.damping @ k.W[self.body]
-        return np.concatenate([g[:3], jinv.T @ g[3:]])
+        g[3:] = jinv.T @ g[3:]  # moment: the exact gradient of the potential in the rotation vector
+        return g
 
     def apply(self, k: Kin, f: np.ndarray) -> None:
         f[6 * self.body:6 * self.body + 6] += self.wrench(k)
@@ -65,8 +66,10 @@ class LinearMooring(ForceElement):
 
     def supply(self, k: Kin) -> float:
         """Work rate of the non-symmetric part of K (zero for a symmetric stiffness)."""
-        x, jinv = self._x(k, self.r0)
         skew_part = 0.5 * (self.stiffness - self.stiffness.T)
+        if not skew_part.any():
+            return 0.0
+        x, jinv = self._x(k, self.r0)
         g = -skew_part @ x
         return float(np.concatenate([g[:3], jinv.T @ g[3:]]) @ k.W[self.body])
 

@@ -10,24 +10,34 @@ angular velocities ``w`` are in the world frame, ``dR/dt = S(w) R``. A *rotation
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 _SMALL = 1e-6
 
 
+# S(v) = v @ _SKEW reshaped: entry (a, b) of S is -eps_abc v_c (exact: one non-zero term per entry)
+_SKEW = np.array([[0, 0, 0, 0, 0, -1, 0, 1, 0], [0, 0, 1, 0, 0, 0, -1, 0, 0], [0, -1, 0, 1, 0, 0, 0, 0, 0]], float)
+_EYE = np.eye(3)
+
+
 def skew(v: np.ndarray) -> np.ndarray:
     """S(v) with S(v) u = v x u; ``v`` (..., 3) -> (..., 3, 3)."""
     v = np.asarray(v, dtype=float)
-    s = np.zeros(v.shape[:-1] + (3, 3))
-    s[..., 0, 1], s[..., 0, 2] = -v[..., 2], v[..., 1]
-    s[..., 1, 0], s[..., 1, 2] = v[..., 2], -v[..., 0]
-    s[..., 2, 0], s[..., 2, 1] = -v[..., 1], v[..., 0]
-    return s
+    return (v @ _SKEW).reshape(v.shape[:-1] + (3, 3))
+
+
+def _norm(v: np.ndarray) -> np.ndarray:
+    """Euclidean norm over the last axis (what ``np.linalg.norm(v, axis=-1)`` computes, without its overhead)."""
+    return np.sqrt(np.add.reduce(v * v, axis=-1))
 
 
 def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """a = sin t / t, b = (1 - cos t) / t^2 with Taylor series near 0."""
     small = t < _SMALL
+    if not small.any():
+        return np.sin(t) / t, (1 - np.cos(t)) / t**2
     ts = np.where(small, 1.0, t)
     a = np.where(small, 1 - t**2 / 6, np.sin(ts) / ts)
     b = np.where(small, 0.5 - t**2 / 24, (1 - np.cos(ts)) / ts**2)
@@ -37,24 +47,58 @@ def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def exp_so3(phi: np.ndarray) -> np.ndarray:
     """Rodrigues: exp(S(phi)) for rotation vectors ``phi`` (..., 3)."""
     phi = np.asarray(phi, dtype=float)
-    t = np.linalg.norm(phi, axis=-1)
-    a, b = _coefficients(t)
+    if phi.ndim <= 2 and phi.size <= 3 * _FEW:  # a few vectors: plain floats (numpy's per-call cost dominates)
+        out = np.array([_exp_one(p) for p in phi.tolist()] if phi.ndim == 2 else _exp_one(phi.tolist()))
+        return out.reshape(phi.shape[:-1] + (3, 3))
+    a, b = _coefficients(_norm(phi))
     s = skew(phi)
-    return np.eye(3) + a[..., None, None] * s + b[..., None, None] * (s @ s)
+    return _EYE + a[..., None, None] * s + b[..., None, None] * (s @ s)
+
+
+_FEW = 4
+
+
+def _exp_one(phi: list[float]) -> list[list[float]]:
+    """exp(S(phi)) of one rotation vector in plain floats: I + a S + b S^2, S^2 = phi phi^T - t^2 I."""
+    x, y, z = phi
+    t2 = x * x + y * y + z * z
+    t = math.sqrt(t2)
+    if t < _SMALL:
+        a, b = 1 - t2 / 6, 0.5 - t2 / 24
+    else:
+        a, b = math.sin(t) / t, (1 - math.cos(t)) / t2
+    bxy, bxz, byz = b * x * y, b * x * z, b * y * z
+    return [[1 + b * (x * x - t2), bxy - a * z, bxz + a * y],
+            [bxy + a * z, 1 + b * (y * y - t2), byz - a * x],
+            [bxz - a * y, byz + a * x, 1 + b * (z * z - t2)]]
+
+
+_AXIAL_I, _AXIAL_J = np.array([2, 0, 1]), np.array([1, 2, 0])  # w = (R_21 - R_12, R_02 - R_20, R_10 - R_01)
 
 
 def log_so3(r: np.ndarray) -> np.ndarray:
     """Rotation vector of rotation matrices ``r`` (..., 3, 3), angle in [0, pi]."""
     r = np.asarray(r, dtype=float)
-    cos_t = np.clip((np.trace(r, axis1=-2, axis2=-1) - 1) / 2, -1.0, 1.0)
+    if r.ndim == 3 and 0 < len(r) <= _FEW:  # a few matrices: one by one in plain floats
+        return np.array([log_so3(m) for m in r])
+    if r.ndim == 2:  # one matrix: plain floats (cheaper than numpy), except near pi
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r.tolist()
+        t = math.acos(min(max((r00 + r11 + r22 - 1) / 2, -1.0), 1.0))
+        if t <= np.pi - 1e-4:
+            factor = 0.5 + t * t / 12 if t < 1e-4 else t / (2 * math.sin(t))
+            return np.array((factor * (r21 - r12), factor * (r02 - r20), factor * (r10 - r01)))
+    cos_t = np.clip((r[..., 0, 0] + r[..., 1, 1] + r[..., 2, 2] - 1) / 2, -1.0, 1.0)
     t = np.arccos(cos_t)
-    w = np.stack([r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]], axis=-1)
+    w = r[..., _AXIAL_I, _AXIAL_J] - r[..., _AXIAL_J, _AXIAL_I]
     small = t < 1e-4
-    sin_t = np.sin(np.where(small, 1.0, t))
-    factor = np.where(small, 0.5 + t**2 / 12, t / (2 * sin_t))
+    if small.any():
+        sin_t = np.sin(np.where(small, 1.0, t))
+        factor = np.where(small, 0.5 + t**2 / 12, t / (2 * sin_t))
+    else:
+        factor = t / (2 * np.sin(t))
     phi = factor[..., None] * w
     near_pi = t > np.pi - 1e-4
-    if np.any(near_pi):  # axis from the symmetric part: R = I + 2 n n^T - ... at t = pi
+    if near_pi.any():  # axis from the symmetric part: R = I + 2 n n^T - ... at t = pi
         for idx in zip(*np.nonzero(np.atleast_1d(near_pi)), strict=False):
             m = r[idx] if r.ndim > 2 else r
             sym = (m + m.T) / 2 - np.cos(t[idx] if t.ndim else t) * np.eye(3)
@@ -73,18 +117,31 @@ def log_so3(r: np.ndarray) -> np.ndarray:
 def left_jacobian_inverse(phi: np.ndarray) -> np.ndarray:
     """J_l(phi)^-1: phi' = J_l^-1 w for R = exp(S(phi)), dR/dt = S(w) R."""
     phi = np.asarray(phi, dtype=float)
-    t = np.linalg.norm(phi, axis=-1)
-    small = t < 1e-4
-    ts = np.where(small, 1.0, t)
-    c = np.where(small, 1 / 12 + t**2 / 720, (1 - ts * np.sin(ts) / (2 * (1 - np.cos(ts)))) / ts**2)
+    if phi.ndim == 1:  # one vector: plain floats, S^2 = phi phi^T - t^2 I
+        x, y, z = phi.tolist()
+        t2 = x * x + y * y + z * z
+        t = math.sqrt(t2)
+        c = 1 / 12 + t2 / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / t2
+        cxy, cxz, cyz = c * x * y, c * x * z, c * y * z
+        return np.array([[1 + c * (x * x - t2), cxy + 0.5 * z, cxz - 0.5 * y],
+                         [cxy - 0.5 * z, 1 + c * (y * y - t2), cyz + 0.5 * x],
+                         [cxz + 0.5 * y, cyz - 0.5 * x, 1 + c * (z * z - t2)]])
+    else:
+        t = _norm(phi)
+        small = t < 1e-4
+        if small.any():
+            ts = np.where(small, 1.0, t)
+            c = np.where(small, 1 / 12 + t**2 / 720, (1 - ts * np.sin(ts) / (2 * (1 - np.cos(ts)))) / ts**2)
+        else:
+            c = (1 - t * np.sin(t) / (2 * (1 - np.cos(t)))) / t**2
     s = skew(phi)
-    return np.eye(3) - 0.5 * s + c[..., None, None] * (s @ s)
+    return _EYE - 0.5 * s + c[..., None, None] * (s @ s)
 
 
 def left_jacobian(phi: np.ndarray) -> np.ndarray:
     """J_l(phi) = I + (1 - cos t)/t^2 S + (t - sin t)/t^3 S^2."""
     phi = np.asarray(phi, dtype=float)
-    t = np.linalg.norm(phi, axis=-1)
+    t = _norm(phi)
     small = t < 1e-4
     ts = np.where(small, 1.0, t)
     _, b = _coefficients(t)
@@ -99,11 +156,9 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         a0, a1, a2 = a.tolist()
         b0, b1, b2 = b.tolist()
         return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
-    a, b = np.broadcast_arrays(a, b)
-    out = np.empty(a.shape)
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
+    if a.shape != b.shape:
+        a, b = np.broadcast_arrays(a, b)
+    return a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
+
+
+_NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])  # (a x b)_i = a_{i+1} b_{i+2} - a_{i+2} b_{i+1}

@@ -89,9 +89,9 @@ class MultibodySimulator:
     def time(self) -> float:
         return self.formulation.t
 
-    def displacement(self) -> np.ndarray:
-        """x on the model's coordinates: (n,)."""
-        d = self.model.displacement(self.formulation.pose)
+    def displacement(self, d: np.ndarray | None = None) -> np.ndarray:
+        """x on the model's coordinates: (n,), from the bodies' displacements ``d`` (N, 6) if already known."""
+        d = self.model.displacement(self.formulation.pose) if d is None else d
         return np.array([d[self.model.index(b), dof] for b, dof in self.model.coordinates])
 
     def velocity(self) -> np.ndarray:
@@ -105,11 +105,11 @@ class MultibodySimulator:
         """(dissipated power, power supplied from outside) now."""
         m, f = self.model, self.formulation
         k = self.kin
-        diss = sum(e.dissipation(k) for e in m.elements)
-        supply = sum(e.supply(k) for e in m.elements) + float(f.inputs @ f.v)
-        if len(f.lam):
-            ev = m.constraint(k, gamma=False)
-            supply -= float(f.lam @ ev.rhs_v)
+        powers = [e.powers(k) for e in m.elements]
+        diss = sum(p[0] for p in powers)
+        supply = sum(p[1] for p in powers) + float(f.inputs @ f.v)
+        if len(f.lam) and m.drivers:  # -Phi_t is non-zero only on driver rows
+            supply -= float(f.lam @ m.velocity_rhs(f.t))
         return diss, supply
 
     def energy(self) -> dict[str, float]:

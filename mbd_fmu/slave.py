@@ -241,9 +241,9 @@ class MultibodySlave(VectorSlave):
     def _update_motion(self) -> None:
         sim = self.system
         slots = self._input_slots
-        self.array("x")[:] = sim.displacement()[slots]
-        self.array("v")[:] = sim.velocity()[slots]
         disp = sim.model.displacement(sim.formulation.pose)
+        self.array("x")[:] = sim.displacement(disp)[slots]
+        self.array("v")[:] = sim.velocity()[slots]
         for i, b in enumerate(self.spec["bodies"]):
             self.array(f"{b['name']}.pose")[:] = np.concatenate([sim.formulation.pose.r[i], disp[i, 3:]])
 
