@@ -91,8 +91,9 @@ def report_scene(kind: str, lines: list[str]) -> None:
     first, _ = harmonic_fit(t, y, omega)
     power = window_mean(data["time"], data["ptos/pto/power"], mask)
     exact = ref.motion[1, 0]
+    phase = math.degrees(np.angle(first / exact))
     lines.append(f"time domain (FMUs, 240 s at 0.05 s, {wall:.1f} s wall): fundamental "
-                 f"{100 * (abs(first) / abs(exact) - 1):+.3f} %, phase {math.degrees(np.angle(first / exact)):+.3f} deg, "
+                 f"{100 * (abs(first) / abs(exact) - 1):+.3f} %, phase {phase:+.3f} deg, "
                  f"power {100 * (power / ref.pto_power['pto'] - 1):+.3f} %, waveform max error "
                  f"{100 * np.max(np.abs(y - ref.time_series(t)[:, 0])) / abs(exact):.3f} % of |X1|")
 

@@ -122,6 +122,8 @@ class PtoLaw:
 
     def force(self, linear: np.ndarray | float, v: np.ndarray | float) -> np.ndarray | float:
         """F from the linear law's value ``linear`` and the rate ``v``."""
+        if not (self.friction or self.quadratic or self.force_limit):
+            return linear
         g = linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
         return self.force_limit * np.tanh(g / self.force_limit) if self.force_limit > 0 else g
 
@@ -198,7 +200,9 @@ class CoordinateSpringDamper(ForceElement):
         return self.force_command * v
 
     def powers(self, k: Kin) -> tuple[float, float]:
-        _, v, _ = self.state(k)
+        x, v, _ = self.state(k)
+        if self.law.nonlinear:
+            return -(self.law_force(x, v) + self.stiffness * x - self.force_command) * v, self.force_command * v
         return self.damping * v * v, self.force_command * v
 
     def power(self, k: Kin) -> float:
