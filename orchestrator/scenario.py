@@ -650,6 +650,11 @@ def _check_simulation(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: simulation.master = 'monolithic' steps the physics directly with A_inf in the mass matrix and a "
             "fixed step; remove simulation.added_mass and [simulation.adaptive] or choose a co-simulation master")
+    if sim.master == "monolithic" and s.formulation != "linear":
+        raise ScenarioError(
+            f"{f}: simulation.master = 'monolithic' steps only the linear multibody model (scenes without joints, "
+            f"force elements, drivers, point masses or PTOs between bodies); this scene uses the {s.formulation!r} "
+            "formulation: choose a co-simulation master (e.g. 'jacobi')")
     if not sim.resolve_feedthrough and (sim.master != "jacobi" or sim.extrapolation != 0):
         raise ScenarioError(
             f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "

@@ -67,7 +67,7 @@ def test_second_call_hits_the_cache(small_cylinder) -> None:
     assert cache_key([body], other) != cache_key([body], settings)
 
 
-@pytest.mark.parametrize("name", ["cylinder_regular", "disc_decay", "two_floats", "light_float",
+@pytest.mark.parametrize("name", ["cylinder_regular", "disc_decay", "two_floats", "light_float", "hinge_barge",
                                   "two_cylinders_decay", "cylinder_irregular"])
 def test_bundled_scenarios_ship_their_database(name) -> None:
     """The committed database is the one the scenario asks for: a fresh run needs no BEM solve."""

@@ -77,6 +77,8 @@ def test_bundled_scenarios_load() -> None:
      ["needs an iterative master", "'iqn_ils'"]),
     (lambda t: t.replace("extrapolation = 2 ", 'master = "monolithic"\nadded_mass = "explicit_force"\n'),
      ["simulation.master = 'monolithic'"]),
+    (lambda t: t.replace("extrapolation = 2 ", 'master = "monolithic"\nextrapolation = 2 ')
+     + '\n[multibody]\nformulation = "index3"\n', ["'monolithic' steps only the linear multibody model"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 3 "), ["simulation.extrapolation must be 0, 1 or 2"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 2.0 "),
      ["simulation.extrapolation: expected an integer"]),
