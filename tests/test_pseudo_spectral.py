@@ -231,3 +231,22 @@ def test_steady_needs_regular_waves(tmp_path, capsys) -> None:
     path.write_text(text)
     assert main(["steady", str(path), "--out", str(tmp_path / "x.h5")]) == 2
     assert "needs regular waves" in capsys.readouterr().err
+
+
+def test_heading_sweep_obeys_the_mirror_symmetry_of_two_cylinders(tmp_path) -> None:
+    """Two identical cylinders at x = +-4 m: waves from 0 deg on the fore body are waves from 180 deg on the
+    aft body (mirror x -> -x), and in beam seas (90 deg) both move alike."""
+    text = (SCENARIOS / "two_cylinders_decay.toml").read_text().replace(
+        "[hydro]", f'[rao]\nheadings_deg = [0.0, 90.0, 180.0]\n\n[hydro]\ncache_dir = "{SCENARIOS / "hydro_cache"}"', 1)
+    path = tmp_path / "pair.toml"
+    path.write_text(text)
+    out = tmp_path / "sweep.h5"
+    assert main(["rao", str(path), "--out", str(out)]) == 0
+    with h5py.File(out) as f:
+        assert list(f["heading_sweep/headings_deg"][()]) == [0.0, 90.0, 180.0]
+        fore, aft = f["heading_sweep/bodies/fore/rao"][:, :, 2], f["heading_sweep/bodies/aft/rao"][:, :, 2]
+        np.testing.assert_allclose(f["bodies/fore/rao"][:, 2], fore[0])
+    scale = np.max(np.abs(fore))
+    assert np.max(np.abs(fore[0] - aft[2])) < 1e-3 * scale
+    assert np.max(np.abs(fore[1] - aft[1])) < 1e-3 * scale
+    assert np.max(np.abs(fore[0] - aft[0])) > 0.05 * scale  # head seas do tell the two apart
