@@ -205,6 +205,9 @@ def test_every_element_kind_is_wired_from_the_scenario_to_the_fmu_outputs(tmp_pa
     path.write_text(text + EXTRAS)
     scenario = load_scenario(path)
     scenario.hydro.cache_dir = str(SCENARIOS / "hydro_cache")  # the committed hinge-barge database
+    # The database's out-of-plane coefficients at its top frequency (barge 2 sway-roll damping, 12 rad/s)
+    # are 6 % asymmetric with the 0.05 m mesh; this test checks the wiring of elements, not hydrodynamics.
+    scenario.hydro.check_tolerance = 0.1
     scene = load_scene(scenario, log=None)
     sim = scene.multibody_simulator()
     # 3 x 6 rigid + 3 point-mass coordinates; hinge 5, ball 3, locked pin 6, driver 1 equations. With the
