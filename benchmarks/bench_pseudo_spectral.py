@@ -136,7 +136,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--quick", action="store_true", help="lengths 15, 60, 300 s (default)")
-    group.add_argument("--full", action="store_true", help="lengths 15, 60, 300, 1000, 3000 s (about 1.5 h)")
+    group.add_argument("--full", action="store_true", help="lengths 15, 60, 300, 1000, 3000 s (17 minutes in all)")
     parser.add_argument("--omega", type=float, default=math.pi, help="wave frequency, rad/s (default pi: T = 2 s)")
     parser.add_argument("--fixed-step", type=float, default=0.05, help="step of the length series, s")
     parser.add_argument("--repeat", type=int, default=3, help="repeats of runs of at most 2000 steps (median)")
