@@ -182,3 +182,33 @@ class RadiationMemory:
         self._push(v_now)
         self._last = np.array(v_now, dtype=float)
         self.gap = q
+
+
+def ogilvie_added_mass_inf(omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarray, duration: float,
+                           dt: float | None = None) -> tuple[np.ndarray, float]:
+    """A_inf consistent with a database's A(omega) and the impulse response of its B(omega).
+
+    Ogilvie's relation (1964) holds at every frequency for a causal radiation force,
+
+        A_inf = A(omega) + (1/omega) int_0^T K(t) sin(omega t) dt,
+
+    with K the impulse response of B (:func:`impulse_response`, length ``duration``, trapezoidal
+    rule at step ``dt``, default pi / (20 omega_max)). A time-domain model built from K and A_inf
+    reproduces the database's A(omega) only if A_inf satisfies it; a BEM's separately computed
+    infinite-frequency limit, and the truncation of B at the last frequency, can break that by a
+    few percent. Returns the median of the right-hand side over the grid (robust to the few
+    frequencies where the BEM is least accurate, e.g. near a gap resonance), symmetrised, and its
+    spread (largest standard deviation over the grid, relative to the largest |A_inf|).
+    """
+    omega = np.asarray(omega, dtype=float)
+    dt = dt or np.pi / (20 * omega[-1])
+    t = np.arange(int(np.ceil(duration / dt)) + 1) * dt
+    k = impulse_response(omega, damping, t)
+    weights = np.full(len(t), dt)
+    weights[0] = weights[-1] = dt / 2
+    sine = np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * weights, k)
+    estimates = added_mass + sine / omega[:, None, None]
+    a_inf = np.median(estimates, axis=0)
+    a_inf = 0.5 * (a_inf + a_inf.T)
+    spread = float(np.max(estimates.std(axis=0)) / max(float(np.max(np.abs(a_inf))), 1e-300))
+    return a_inf, spread

@@ -82,7 +82,24 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tu
             log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
     sub = _match_bodies(scenario, hdb)
     _check_coefficients(scenario, sub)
+    if scenario.hydro.added_mass_inf == "ogilvie":
+        sub = _ogilvie(scenario, sub, log)
     return sub, path
+
+
+def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
+    """The database with A_inf replaced by the value consistent with its A(omega) and B(omega)."""
+    import dataclasses
+
+    from hydro_fmu.radiation import ogilvie_added_mass_inf
+
+    a_inf, spread = ogilvie_added_mass_inf(hdb.omega, hdb.added_mass, hdb.radiation_damping,
+                                           scenario.hydro.irf_duration)
+    change = float(np.max(np.abs(a_inf - hdb.added_mass_inf)) / np.max(np.abs(hdb.added_mass_inf)))
+    if log is not None:
+        log(f"A_inf from Ogilvie's relation: largest change {100 * change:.2g} % of the largest entry; "
+            f"spread over the frequency grid {100 * spread:.2g} %")
+    return dataclasses.replace(hdb, added_mass_inf=a_inf, source=f"{hdb.source} (A_inf: Ogilvie fit)")
 
 
 def _check_coefficients(scenario: Scenario, hdb: HydroDatabase) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hydro_fmu.radiation import RadiationMemory, impulse_response
+from hydro_fmu.radiation import RadiationMemory, impulse_response, ogilvie_added_mass_inf
 
 
 def exponential_damping(omega: np.ndarray, a: float = 0.7) -> np.ndarray:
@@ -141,3 +141,19 @@ def test_irf_diagnostics_name_each_problem() -> None:
     slow = np.exp(-0.05 * t)[:, None, None]  # K(18 s) = exp(-0.9) = 41 % of K(0) in the last tenth
     messages = irf_diagnostics(omega, decayed, t, slow, labels)
     assert any("K(t) is still 41% of its peak at the end" in m for m in messages)
+
+
+def test_ogilvie_recovers_the_infinite_frequency_added_mass_of_a_causal_kernel() -> None:
+    """K(t) = c exp(-a t) (cos b t - (a/b) sin b t) (zero mean, so B(0) = 0 as for a floating body) has the
+    transform K^(w) = c i w / ((a + i w)^2 + b^2): B = Re K^, A = A_inf + Im K^ / w (Ogilvie's relation in
+    closed form). From A and B on a grid the fit returns A_inf, and its spread shows the data are consistent."""
+    a, b, c, a_inf = 0.5, 1.5, 200.0, 50.0
+    omega = np.arange(0.05, 30.0 + 1e-9, 0.05)
+    transform = c * 1j * omega / ((a + 1j * omega) ** 2 + b**2)
+    damping = transform.real[:, None, None]
+    added = (a_inf + transform.imag / omega)[:, None, None]
+    fitted, spread = ogilvie_added_mass_inf(omega, added, damping, 40.0)
+    assert fitted[0, 0] == pytest.approx(a_inf, rel=1e-3)
+    assert spread < 1e-3
+    shifted, _ = ogilvie_added_mass_inf(omega, added + 2.0, damping, 40.0)  # follows A(omega), not a given A_inf
+    assert shifted[0, 0] == pytest.approx(a_inf + 2.0, rel=1e-3)
