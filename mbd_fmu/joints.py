@@ -39,6 +39,13 @@ from .coordinates import Angle, Coordinate, Distance, RotationComponent, Slide
 JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
 JOINT_DOF = {"fixed": 0, "revolute": 1, "prismatic": 1, "cylindrical": 2, "universal": 2, "spherical": 3,
              "planar": 3, "distance": 5}
+# (position unit, rate unit) of each coordinate a joint kind reports (FMU outputs, results files)
+JOINT_COORDINATE_UNITS = {
+    "fixed": [], "revolute": [("rad", "rad/s")], "prismatic": [("m", "m/s")],
+    "cylindrical": [("m", "m/s"), ("rad", "rad/s")], "universal": [("rad", "rad/s")] * 3,
+    "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
+    "distance": [("m", "m/s")],
+}
 
 
 def joint_frame(axis, axis2=None) -> np.ndarray:

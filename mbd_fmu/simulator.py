@@ -62,6 +62,9 @@ class MultibodySimulator:
         f = self.formulation
         if inputs is not None:
             f.set_inputs(inputs)
+            # The held input's power at the start of the step (the trapezoidal rule below must pair the
+            # same input at both ends of each substep: mixing in the previous step's input is an O(h) error).
+            self._powers = self.powers()
         n = max(1, math.ceil(h / self.max_step - 1e-9)) if self.max_step > 0 else 1
         for _ in range(n):
             f.step(h / n)

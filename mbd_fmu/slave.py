@@ -34,6 +34,7 @@ from fmu_base.slave import VectorSlave, indexed_names, load_spec, matrix_names
 
 from .bodies import RigidBody
 from .force_elements import LinearPTO
+from .joints import JOINT_COORDINATE_UNITS
 from .linear_system import LinearMultibodySystem
 from .simulator import MultibodySimulator
 from .spec import build_simulator
@@ -317,14 +318,6 @@ class MultibodySlave(VectorSlave):
             return False
         self.mark_outputs_stale()
         return True
-
-
-JOINT_COORDINATE_UNITS = {
-    "fixed": [], "revolute": [("rad", "rad/s")], "prismatic": [("m", "m/s")],
-    "cylindrical": [("m", "m/s"), ("rad", "rad/s")], "universal": [("rad", "rad/s")] * 3,
-    "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
-    "distance": [("m", "m/s")],
-}
 
 
 def _force_outputs(f: dict) -> int:

@@ -57,6 +57,32 @@ class Recorder:
             self._add(f"ptos/{p.name}/force", (), MBD, [names[MBD].index(f"{p.name}.force")], None)
             self._add(f"ptos/{p.name}/power", (), MBD, [names[MBD].index(f"{p.name}.power")], None)
         self._add("wave/elevation", (), HYDRO, [names[HYDRO].index("wave.elevation")], None)
+        for path, variables in self.multibody_series(scene).items():
+            out = [names[MBD].index(v) for v in variables]
+            self._add(path, () if path.startswith(("energy/", "mbd/")) else (len(out),), MBD, out, None)
+
+    @staticmethod
+    def multibody_series(scene: Scene) -> dict[str, list[str]]:
+        """Results path -> multibody FMU outputs for the nonlinear formulations: per joint its coordinates,
+        rates and reaction (force on body 2 from body 1 and moment about the joint point, world frame),
+        the energy account and the constraint violation."""
+        s = scene.scenario
+        if s.formulation == "linear":
+            return {}
+        from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+        out: dict[str, list[str]] = {}
+        for j in s.joints:
+            k = len(JOINT_COORDINATE_UNITS[j.kind])
+            if k:
+                out[f"joints/{j.name}/coordinate"] = [f"{j.name}.coordinate[{i + 1}]" for i in range(k)]
+                out[f"joints/{j.name}/rate"] = [f"{j.name}.rate[{i + 1}]" for i in range(k)]
+            out[f"joints/{j.name}/force"] = [f"{j.name}.force[{i + 1}]" for i in range(3)]
+            out[f"joints/{j.name}/moment"] = [f"{j.name}.moment[{i + 1}]" for i in range(3)]
+        for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
+            out[f"energy/{key}"] = [f"energy.{key}"]
+        out["mbd/constraint_violation"] = ["mbd.constraint_violation"]
+        return out
 
     def _add(self, name: str, shape: tuple[int, ...], comp: str, out: list[int], cols: list[int] | None) -> None:
         self.series[name] = shape
@@ -67,6 +93,7 @@ class Recorder:
         """Outputs the master must read at each point for the results file."""
         mbd = [f"{b.name}.{v}[{DOFS.index(d) + 1}]" for b in scene.scenario.bodies for v in ("x", "v") for d in b.dofs]
         mbd += [f"{p.name}.{k}" for p in scene.scenario.ptos for k in ("force", "power")]
+        mbd += [v for variables in Recorder.multibody_series(scene).values() for v in variables]
         hydro = [f"{b.name}.F[{DOFS.index(d) + 1}]" for b in scene.scenario.hydro_bodies for d in b.dofs]
         return {MBD: mbd, HYDRO: hydro + ["wave.elevation"]}
 
@@ -75,7 +102,7 @@ class Recorder:
         for name, comp, out, cols in self.plan:
             values = outputs[comp][out]
             if cols is None:
-                row[name] = values[0]
+                row[name] = values[0] if not self.series[name] else values.copy()
             else:
                 full = np.zeros(6)
                 full[cols] = values
