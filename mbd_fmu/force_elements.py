@@ -120,16 +120,20 @@ class PtoLaw:
     def nonlinear(self) -> bool:
         return bool(self.friction or self.quadratic or self.force_limit)
 
+    def _unsaturated(self, linear, v):
+        """``g``: the linear law's value plus friction and quadratic damping."""
+        return linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
+
     def force(self, linear: np.ndarray | float, v: np.ndarray | float) -> np.ndarray | float:
         """F from the linear law's value ``linear`` and the rate ``v``."""
-        if not (self.friction or self.quadratic or self.force_limit):
+        if not self.nonlinear:
             return linear
-        g = linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
+        g = self._unsaturated(linear, v)
         return self.force_limit * np.tanh(g / self.force_limit) if self.force_limit > 0 else g
 
     def derivatives(self, linear, v, dlinear_dx, dlinear_dv) -> tuple:
         """(dF/dx, dF/dv) given the linear law's derivatives."""
-        g = linear - self.friction * np.tanh(v / self.velocity_scale) - self.quadratic * np.abs(v) * v
+        g = self._unsaturated(linear, v)
         dg_dv = (dlinear_dv - self.friction / self.velocity_scale / np.cosh(v / self.velocity_scale) ** 2
                  - 2 * self.quadratic * np.abs(v))
         slope = 1.0 / np.cosh(g / self.force_limit) ** 2 if self.force_limit > 0 else 1.0

@@ -150,34 +150,9 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
         return _constrained_linear_model(scene, omega, radiation=radiation, dt=dt, omega_cut=omega_cut,
                                          heading=heading)
     system = scene.multibody_system(added_mass=False)
-    idx = scene.hydro_index()
     rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
-    hdb = scene.hdb
-    switches = scene.scenario.hydro
-    A, B, X = hdb.interpolate(omega, np.radians(heading))
-    if radiation == "impulse_response":
-        A, B = radiation_coefficients_from_irf(
-            scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
-    elif radiation == "database":
-        A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
-    else:
-        raise ValueError(f"radiation must be 'database' or 'impulse_response', not {radiation!r}")
-    if not switches.radiation:  # memory force off: only A_inf remains (in the multibody mass matrix)
-        A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
-        B = np.zeros_like(B)
-    viscous = scene.viscous() if switches.viscous else None
-    if viscous is not None:  # the linear part of the viscous force (quadratic drag is not linear: left out)
-        B = B + np.diag(viscous.linear)[None]
-    c_hs = block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)] if switches.hydrostatics else 0.0
-    stiffness = system.stiffness.copy()
-    stiffness[np.ix_(rows, rows)] += c_hs
-    w = omega[:, None, None]
-    z = -w**2 * system.structural_mass + 1j * w * system.damping + stiffness
-    block = np.ix_(np.arange(len(omega)), rows, rows)
-    z[block] += -w**2 * A + 1j * w * B
-    f = np.zeros((len(omega), system.n), complex)
-    if switches.excitation:
-        f[:, rows] = X[:, idx]
+    z, f, stiffness = _impedance(scene, omega, system.structural_mass, system.damping, system.stiffness, rows,
+                                 radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     pto_rows = {}
     for p in system.ptos:
         row = np.zeros(system.n)
@@ -198,37 +173,49 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
     sim = scene.multibody_simulator(added_mass=False)
     model = sim.model
     lin = linearize(model)
-    hdb = scene.hdb
-    switches = scene.scenario.hydro
-    idx = scene.hydro_index()
     rows = [model.slot_of(b, d) for b, d in scene.hydro_coordinates]
-    A, B, X = hdb.interpolate(omega, np.radians(heading))
-    if radiation == "impulse_response":
-        A, B = radiation_coefficients_from_irf(
-            scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
-    else:
-        A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
-    if not switches.radiation:
-        A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
-        B = np.zeros_like(B)
-    viscous = scene.viscous() if switches.viscous else None
-    if viscous is not None:  # linear part of the viscous force (quadratic drag is not linear: left out)
-        B = B + np.diag(viscous.linear)[None]
-    stiffness = lin.stiffness.copy()
-    if switches.hydrostatics:
-        stiffness[np.ix_(rows, rows)] += block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)]
-    w = omega[:, None, None]
-    z = -w**2 * lin.mass + 1j * w * lin.damping + stiffness
-    z[np.ix_(np.arange(len(omega)), rows, rows)] += -w**2 * A + 1j * w * B
-    f = np.zeros((len(omega), model.n), complex)
-    if switches.excitation:
-        f[:, rows] = X[:, idx]
+    z, f, stiffness = _impedance(scene, omega, lin.mass, lin.damping, lin.stiffness, rows,
+                                 radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     p = lin.null_space
     kin = model.kin(model.reference, np.zeros(model.n))
     pto_rows = {pto.name: (_coordinate_row(model, pto.coordinate, kin), pto.damping, pto) for pto in sim.ptos}
     return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows,
                        full_impedance=z, full_excitation=f, constraint=lin.constraint_jacobian,
                        joints=_joint_maps(model, kin))
+
+
+def _impedance(scene: Scene, omega: np.ndarray, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
+               rows: list[int], *, radiation: str, dt: float | None, omega_cut: float,
+               heading: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``Z = -w^2 (M + A) + i w (D + B + B_visc) + K + C_hs``, the excitation (Nw, n) and the static
+    stiffness ``K + C_hs``, with the hydrodynamics (switched as the scenario says) on coordinates ``rows``."""
+    hdb = scene.hdb
+    switches = scene.scenario.hydro
+    idx = scene.hydro_index()
+    A, B, X = hdb.interpolate(omega, np.radians(heading))
+    if radiation == "impulse_response":
+        A, B = radiation_coefficients_from_irf(
+            scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
+    elif radiation == "database":
+        A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
+    else:
+        raise ValueError(f"radiation must be 'database' or 'impulse_response', not {radiation!r}")
+    if not switches.radiation:  # memory force off: only A_inf remains (in the multibody mass matrix)
+        A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
+        B = np.zeros_like(B)
+    viscous = scene.viscous() if switches.viscous else None
+    if viscous is not None:  # the linear part of the viscous force (quadratic drag is not linear: left out)
+        B = B + np.diag(viscous.linear)[None]
+    stiffness = stiffness.copy()
+    if switches.hydrostatics:
+        stiffness[np.ix_(rows, rows)] += block_diag(*hdb.hydrostatic_stiffness)[np.ix_(idx, idx)]
+    w = omega[:, None, None]
+    z = -w**2 * mass + 1j * w * damping + stiffness
+    z[np.ix_(np.arange(len(omega)), rows, rows)] += -w**2 * A + 1j * w * B
+    f = np.zeros((len(omega), len(stiffness)), complex)
+    if switches.excitation:
+        f[:, rows] = X[:, idx]
+    return z, f, stiffness
 
 
 def _coordinate_row(model, coordinate, kin) -> np.ndarray:

@@ -361,10 +361,12 @@ class PeriodicProblem:
             return np.zeros((self.H, 0))
         return np.linalg.lstsq(self.model.constraint.T, force.T, rcond=None)[0].T
 
-    def nonlinear_harmonics(self, x: np.ndarray, jacobian: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
-        """Harmonics (H, n) of the nonlinear forces for motion coefficients ``x`` (H, n), and d/dx (H n, H n)."""
+    def nonlinear_harmonics(self, x: np.ndarray, jacobian: bool = False,
+                            include: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """Harmonics (H, n) of the nonlinear forces for motion coefficients ``x`` (H, n), and d/dx (H n, H n);
+        zero if ``include`` is False."""
         H, n = self.H, self.n
-        if not self.forces:
+        if not (self.forces and include):
             return np.zeros((H, n)), (np.zeros((H * n, H * n)) if jacobian else None)
         xs, vs = self._syn @ x, self._der @ x
         f, jx, jv = np.zeros((H, n)), np.zeros((H, n, n)), np.zeros((H, n, n))
@@ -378,11 +380,12 @@ class PeriodicProblem:
                + np.einsum("hj,jil,jg->higl", self._ana, jv, self._der))
         return harmonics, jac.reshape(H * n, H * n)
 
-    def residual(self, u: np.ndarray, jacobian: bool = True):
-        """Collocation residual (and its Jacobian) of the unknown vector ``u``."""
+    def residual(self, u: np.ndarray, jacobian: bool = True, nonlinear: bool = True):
+        """Collocation residual (and its Jacobian) of the unknown vector ``u``; ``nonlinear=False`` leaves
+        the nonlinear forces out."""
         H, n, r = self.H, self.n, self.r
         x = self.motion_of(u)
-        nl, dnl = self.nonlinear_harmonics(x, jacobian)
+        nl, dnl = self.nonlinear_harmonics(x, jacobian, nonlinear)
         force = (self.linear @ x.ravel()).reshape(H, n) - self.excitation - nl
         if self.form == "dae":
             lam = u[H * n:].reshape(H, r)
@@ -402,11 +405,7 @@ class PeriodicProblem:
 
     def linear_solution(self) -> np.ndarray:
         """The unknowns of the linear problem (nonlinear forces left out): one direct solve."""
-        saved, self.forces = self.forces, []
-        try:
-            res, jac = self.residual(np.zeros(self.unknowns()))
-        finally:
-            self.forces = saved
+        res, jac = self.residual(np.zeros(self.unknowns()), nonlinear=False)
         return np.linalg.solve(jac, -res)
 
 
