@@ -101,6 +101,15 @@ def frequency_grid(start: float, stop: float, step: float) -> tuple[float, ...]:
     return tuple(round(start + i * step, 12) for i in range(n))
 
 
+def merged_grid(*grids: tuple[float, ...]) -> tuple[float, ...]:
+    """The union of frequency grids, sorted, with frequencies closer than 1e-9 rad/s merged."""
+    merged: list[float] = []
+    for w in sorted(w for g in grids for w in g):
+        if not merged or w - merged[-1] > 1e-9:
+            merged.append(w)
+    return tuple(merged)
+
+
 def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
     """Hash of every input that changes the database (mesh file contents included)."""
     import capytaine

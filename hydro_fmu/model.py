@@ -31,7 +31,7 @@ from .hdb import DOF_NAMES, HydroDatabase
 from .hydrostatics import LinearHydrostatics
 from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
-from .radiation import RadiationMemory, impulse_response, irf_diagnostics, resample_damping
+from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
 from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
 from .waves import PhasorClock, Ramp, WaveComponents
 
@@ -56,6 +56,8 @@ class HydroOptions:
     Attributes:
         radiation_method: ``convolution`` (trapezoidal, step ``dt``) or ``state_space``.
         irf_d_omega: frequency step (rad/s) of the impulse-response transform; 0 = the database's.
+        damping_tail: exponent n of B's continuation above the database (0 = cut there), see
+            :func:`hydro_fmu.radiation.damping_tail`.
         state_space_tolerance, state_space_max_order: order selection of the state-space fit.
         excitation_method: ``superposition`` or ``convolution`` (non-causal impulse response).
         excitation_irf_duration: half-length of the excitation kernel (s).
@@ -66,6 +68,7 @@ class HydroOptions:
 
     radiation_method: str = "convolution"
     irf_d_omega: float = 0.0
+    damping_tail: float = 0.0
     state_space_tolerance: float = DEFAULT_TOLERANCE
     state_space_max_order: int = DEFAULT_MAX_ORDER
     excitation_method: str = "superposition"
@@ -210,10 +213,12 @@ class HydroModel:
         omega, damping = self.hdb.omega, self.hdb.radiation_damping[:, self.index][:, :, self.index]
         if o.irf_d_omega > 0:
             omega, damping = resample_damping(omega, damping, o.irf_d_omega)
+        table = damping_tail(omega, damping, o.damping_tail)
         n_kernel = max(2, int(math.ceil(self.irf_duration / self.dt)) + 1)
         self.kernel_time = np.arange(n_kernel) * self.dt
-        self.kernel = impulse_response(omega, damping, self.kernel_time)
-        self.report.warnings = irf_diagnostics(omega, damping, self.kernel_time, self.kernel, self.labels)
+        self.kernel = impulse_response(*table, self.kernel_time)
+        self.report.warnings = irf_diagnostics(omega, damping, self.kernel_time, self.kernel, self.labels,
+                                               continued=o.damping_tail > 0)
         self.report.kernel_samples = n_kernel
         added_mass = self.hdb.added_mass[:, self.index][:, :, self.index]
         if o.radiation_method == "convolution":
@@ -225,7 +230,7 @@ class HydroModel:
         floors = self._scale_floors(self.kernel)
         fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
                               o.state_space_max_order,
-                              kernel_function=lambda t: impulse_response(omega, damping, t), floors=floors)
+                              kernel_function=lambda t: impulse_response(*table, t), floors=floors)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error

@@ -14,7 +14,8 @@ cosine sum times sinc^2(Delta omega t / 2): the periodic images of K that the tr
 produces at t = 2 pi m / Delta omega are suppressed (to zero at those times), and for
 t << pi / Delta omega the error is second order in Delta omega. Keep the kernel shorter than
 about pi / Delta omega. Truncation at the highest database frequency shows as a ripple of period
-2 pi / omega_max in K(t).
+2 pi / omega_max in K(t), decaying only as 1/t; :func:`damping_tail` continues B above the table by
+a power law instead (:func:`kernel_table` is the table the kernel is computed from).
 
 Convolution: trapezoidal rule on a uniform grid t_j = j * dt over the kernel length T_K
 (``irf_duration``): second-order accurate in dt for a smooth velocity, no stability limit of its
@@ -50,6 +51,40 @@ def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> n
     return (2.0 / np.pi) * np.real(fourier_integral(w, B, t))
 
 
+def damping_tail(omega: np.ndarray, damping: np.ndarray, exponent: float, *, ratio: float = 1.02,
+                 reach: float = 100.0) -> tuple[np.ndarray, np.ndarray]:
+    """The table continued above its last frequency Omega by B(omega) = B(Omega) (Omega / omega)^n.
+
+    A BEM database stops at some Omega where B has not decayed; cutting B there (the default)
+    leaves out of A(omega) the Kramers-Kronig share of the missing tail, about
+    (2/pi) int_Omega^inf B(nu) / nu^2 (1 + omega^2 / nu^2 + ...) dnu: a constant, which the
+    Ogilvie A_inf absorbs, plus a part rising as omega^2 that nothing else can absorb. The
+    continuation is a model, chosen by the exponent n: 3 is the deep-water high-frequency
+    law of a wall-sided body in surge (wave amplitude / stroke tends to a constant, so the
+    radiated power per unit velocity squared falls as g^2 / omega^3); heave and pitch of a flat
+    bottom decay faster. Tabulated on a geometric grid of ratio ``ratio`` (linear-interpolation
+    error about n (n + 1) (ratio - 1)^2 / 8 of the tail) up to ``reach`` * Omega, where the tail
+    is ``reach``^-n of B(Omega).
+    """
+    omega = np.asarray(omega, dtype=float)
+    if exponent <= 0:
+        return omega, damping
+    top = omega[-1]
+    nodes = top * ratio ** np.arange(1, int(np.ceil(np.log(reach) / np.log(ratio))) + 1)
+    tail = damping[-1][None] * ((top / nodes) ** exponent).reshape((-1,) + (1,) * (damping.ndim - 1))
+    return np.concatenate([omega, nodes]), np.concatenate([damping, tail], axis=0)
+
+
+def kernel_table(omega: np.ndarray, damping: np.ndarray, *, d_omega: float = 0.0,
+                 tail_exponent: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The B(omega) table the impulse response is computed from: the database's, resampled
+    (``d_omega`` > 0, :func:`resample_damping`) and continued above its last frequency
+    (``tail_exponent`` > 0, :func:`damping_tail`)."""
+    if d_omega > 0:
+        omega, damping = resample_damping(omega, damping, d_omega)
+    return damping_tail(omega, damping, tail_exponent)
+
+
 def resample_damping(omega: np.ndarray, damping: np.ndarray, d_omega: float) -> tuple[np.ndarray, np.ndarray]:
     """B on a uniform grid of step ``d_omega`` from d_omega up to the last frequency, by
     shape-preserving cubic (PCHIP) interpolation through (0, 0) and the database values.
@@ -71,7 +106,7 @@ def resample_damping(omega: np.ndarray, damping: np.ndarray, d_omega: float) -> 
 
 
 def irf_diagnostics(omega: np.ndarray, damping: np.ndarray, t: np.ndarray, kernel: np.ndarray,
-                    labels: list[str], *, decay: float = 0.05) -> list[str]:
+                    labels: list[str], *, decay: float = 0.05, continued: bool = False) -> list[str]:
     """Warnings about the accuracy of K(t) computed from B(omega) (module docstring).
 
     Args:
@@ -80,6 +115,8 @@ def irf_diagnostics(omega: np.ndarray, damping: np.ndarray, t: np.ndarray, kerne
         labels: a name for each degree of freedom, for the messages.
         decay: fraction of the peak that B at the last frequency, or K over the last tenth of
             the kernel, may keep without a warning.
+        continued: B is continued above the table (:func:`damping_tail`), so it is not cut at the last
+            frequency: no truncation warning.
     """
     out = []
     steps = np.diff(np.concatenate([[0.0], omega]))
@@ -94,7 +131,7 @@ def irf_diagnostics(omega: np.ndarray, damping: np.ndarray, t: np.ndarray, kerne
     tail = t >= 0.9 * t[-1]
     for i, label in enumerate(labels):
         peak = diag_b[:, i].max()
-        if peak > 0 and diag_b[-1, i] > decay * peak:
+        if not continued and peak > 0 and diag_b[-1, i] > decay * peak:
             out.append(
                 f"radiation: {label}: B at the highest frequency {omega[-1]:g} rad/s is still "
                 f"{diag_b[-1, i] / peak:.0%} of its peak; cutting it there ripples K(t) with period "
@@ -185,30 +222,52 @@ class RadiationMemory:
 
 
 def ogilvie_added_mass_inf(omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarray, duration: float,
-                           dt: float | None = None) -> tuple[np.ndarray, float]:
+                           dt: float | None = None, *, d_omega: float = 0.0,
+                           tail_exponent: float = 0.0) -> tuple[np.ndarray, float]:
     """A_inf consistent with a database's A(omega) and the impulse response of its B(omega).
 
     Ogilvie's relation (1964) holds at every frequency for a causal radiation force,
 
         A_inf = A(omega) + (1/omega) int_0^T K(t) sin(omega t) dt,
 
-    with K the impulse response of B (:func:`impulse_response`, length ``duration``, trapezoidal
-    rule at step ``dt``, default pi / (20 omega_max)). A time-domain model built from K and A_inf
-    reproduces the database's A(omega) only if A_inf satisfies it; a BEM's separately computed
+    with K the impulse response of B (:func:`impulse_response` of :func:`kernel_table` with the
+    same ``d_omega`` and ``tail_exponent`` as the time-domain model, length ``duration``, trapezoidal rule at step
+    ``dt``, default pi / (20 omega_max)). A time-domain model built from K and A_inf reproduces
+    the database's A(omega) only if A_inf satisfies it; a BEM's separately computed
     infinite-frequency limit, and the truncation of B at the last frequency, can break that by a
-    few percent. Returns the median of the right-hand side over the grid (robust to the few
-    frequencies where the BEM is least accurate, e.g. near a gap resonance), symmetrised, and its
-    spread (largest standard deviation over the grid, relative to the largest |A_inf|).
+    few percent. Returns the median of the right-hand side over the frequency range (each
+    frequency weighted by its share of the range, so a locally refined grid does not pull the
+    median towards the refined band; robust to the few frequencies where the BEM is least
+    accurate), symmetrised, and its spread (largest weighted standard deviation over the range,
+    relative to the largest |A_inf|).
     """
     omega = np.asarray(omega, dtype=float)
     dt = dt or np.pi / (20 * omega[-1])
     t = np.arange(int(np.ceil(duration / dt)) + 1) * dt
-    k = impulse_response(omega, damping, t)
+    k = impulse_response(*kernel_table(omega, damping, d_omega=d_omega, tail_exponent=tail_exponent), t)
     weights = np.full(len(t), dt)
     weights[0] = weights[-1] = dt / 2
     sine = np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * weights, k)
     estimates = added_mass + sine / omega[:, None, None]
-    a_inf = np.median(estimates, axis=0)
+    share = _frequency_shares(omega)
+    a_inf = _weighted_median(estimates, share)
     a_inf = 0.5 * (a_inf + a_inf.T)
-    spread = float(np.max(estimates.std(axis=0)) / max(float(np.max(np.abs(a_inf))), 1e-300))
+    std = np.sqrt(np.einsum("w,wij->ij", share, (estimates - a_inf) ** 2) / share.sum())
+    spread = float(np.max(std) / max(float(np.max(np.abs(a_inf))), 1e-300))
     return a_inf, spread
+
+
+def _frequency_shares(omega: np.ndarray) -> np.ndarray:
+    """Width of the range each frequency stands for (midpoint rule; the first from 0)."""
+    edges = np.concatenate([[0.0], 0.5 * (omega[1:] + omega[:-1]), [omega[-1]]])
+    return np.diff(edges)
+
+
+def _weighted_median(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Median over axis 0 of ``values`` (Nw, ...) with ``weights`` (Nw,): the smallest value at which the
+    cumulative weight reaches half the total."""
+    order = np.argsort(values, axis=0)
+    ranked = np.take_along_axis(values, order, axis=0)
+    cumulative = np.cumsum(weights[order], axis=0)
+    k = np.argmax(cumulative >= 0.5 * cumulative[-1], axis=0)
+    return np.take_along_axis(ranked, k[None], axis=0)[0]

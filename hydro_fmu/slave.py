@@ -182,6 +182,7 @@ class HydroSlave(VectorSlave):
         viscous = self.spec.get("viscous")
         options = HydroOptions(
             radiation_method=r.get("method", "convolution"), irf_d_omega=r.get("irf_d_omega", 0.0),
+            damping_tail=r.get("damping_tail", 0.0),
             state_space_tolerance=p.get("radiation.state_space_tolerance",
                                         r.get("state_space_tolerance", DEFAULT_TOLERANCE)),
             state_space_max_order=r.get("state_space_max_order", 60),

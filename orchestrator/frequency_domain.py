@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import block_diag
 
-from hydro_fmu.radiation import impulse_response
+from hydro_fmu.radiation import impulse_response, kernel_table
 from hydro_fmu.waves import group_velocity
 
 from .scene import Scene
@@ -91,7 +91,10 @@ def radiation_coefficients_from_irf(
     hdb = scene.hdb
     n = max(2, int(np.ceil(duration / dt)) + 1)
     t = np.arange(n) * dt
-    k = impulse_response(hdb.omega, hdb.radiation_damping[:, idx][:, :, idx], t)
+    h = scene.scenario.hydro
+    table = kernel_table(hdb.omega, hdb.radiation_damping[:, idx][:, :, idx], d_omega=h.irf_d_omega,
+                         tail_exponent=h.damping_tail)
+    k = impulse_response(*table, t)
     w = np.full(n, dt)
     w[0] = w[-1] = dt / 2
     a_inf = hdb.added_mass_inf[np.ix_(idx, idx)]

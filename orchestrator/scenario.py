@@ -193,6 +193,10 @@ class HydroSection:
     omega: FrequencyGrid = field(
         default_factory=lambda: FrequencyGrid(0.04, 4.0, 0.04),
         metadata={"doc": "BEM frequency grid (also the resolution of the radiation impulse response)"})
+    omega_refine: list[FrequencyGrid] = field(
+        default_factory=list,
+        metadata={"doc": "extra BEM frequency grids merged into `omega`, e.g. a fine step across a narrow resonance "
+                         "(a gap or moonpool) that the main grid would under-sample; see docs/hydrodynamics.md"})
     headings_deg: list[float] = option(factory=lambda: [0.0], unit="deg", doc="BEM wave headings")
     bem_method: str = option("indirect", choices=("indirect", "direct"), doc="Capytaine formulation")
     irf_duration: float = option(60.0, unit="s", check=positive, doc="length of the radiation impulse response")
@@ -200,6 +204,11 @@ class HydroSection:
         0.0, unit="rad/s", check=non_negative,
         doc="frequency step of the impulse-response transform (B resampled by shape-preserving cubic "
             "interpolation); 0 = the database's grid")
+    damping_tail: float = option(
+        0.0, check=non_negative,
+        doc="exponent n of the radiation damping's continuation above the database's last frequency Omega in the "
+            "impulse response, B(omega) = B(Omega) (Omega/omega)^n (3: wall-sided bodies in surge); 0 = B cut at "
+            "Omega; see docs/hydrodynamics.md")
     radiation_method: str = option("convolution", choices=("convolution", "state_space"),
                                    doc="radiation memory: direct convolution or fitted state space")
     state_space_tolerance: float = option(
@@ -631,9 +640,10 @@ def _check(s: Scenario) -> None:
     _check_hydro(s)
     if s.hydro.database and not s.resolve(s.hydro.database).is_file():
         raise ScenarioError(f"{f}: hydro.database: file {s.resolve(s.hydro.database)} does not exist")
-    g = s.hydro.omega
-    if g.stop <= g.start:
-        raise ScenarioError(f"{f}: hydro.omega: stop must be larger than start")
+    for key, g in [("hydro.omega", s.hydro.omega)] + [
+            (f"hydro.omega_refine[{i}]", r) for i, r in enumerate(s.hydro.omega_refine)]:
+        if g.stop <= g.start:
+            raise ScenarioError(f"{f}: {key}: stop must be larger than start")
     _check_simulation(s)
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_database, frequency_grid
+from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_database, frequency_grid, merged_grid
 from hydro_fmu.bemio import read_bemio
 from hydro_fmu.drag import ViscousCoefficients
 from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
@@ -59,7 +59,7 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
-        omega=frequency_grid(h.omega.start, h.omega.stop, h.omega.step),
+        omega=merged_grid(*(frequency_grid(g.start, g.stop, g.step) for g in [h.omega, *h.omega_refine])),
         headings_deg=tuple(h.headings_deg),
         rho=env.rho, g=env.g, water_depth=env.water_depth, method=h.bem_method,
     )
@@ -93,8 +93,9 @@ def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
 
     from hydro_fmu.radiation import ogilvie_added_mass_inf
 
-    a_inf, spread = ogilvie_added_mass_inf(hdb.omega, hdb.added_mass, hdb.radiation_damping,
-                                           scenario.hydro.irf_duration)
+    h = scenario.hydro
+    a_inf, spread = ogilvie_added_mass_inf(hdb.omega, hdb.added_mass, hdb.radiation_damping, h.irf_duration,
+                                           d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
     change = float(np.max(np.abs(a_inf - hdb.added_mass_inf)) / np.max(np.abs(hdb.added_mass_inf)))
     if log is not None:
         log(f"A_inf from Ogilvie's relation: largest change {100 * change:.2g} % of the largest entry; "
@@ -243,7 +244,7 @@ class Scene:
     def hydro_options(self) -> HydroOptions:
         h = self.scenario.hydro
         return HydroOptions(
-            radiation_method=h.radiation_method, irf_d_omega=h.irf_d_omega,
+            radiation_method=h.radiation_method, irf_d_omega=h.irf_d_omega, damping_tail=h.damping_tail,
             state_space_tolerance=h.state_space_tolerance, state_space_max_order=h.state_space_max_order,
             excitation_method=h.excitation_method, excitation_irf_duration=h.excitation_irf_duration,
             nonlinear_hydrostatics=h.nonlinear_hydrostatics, nonlinear_froude_krylov=h.nonlinear_froude_krylov,
@@ -306,7 +307,8 @@ class Scene:
             "bodies": [{"name": b.name, "dofs": [DOFS.index(d) for d in _sorted_dofs(b)]} for b in s.hydro_bodies],
             "waves": self.sea_spec({k: v for k, v in renamed.items() if v}).to_json(),
             "radiation": {"dt": s.simulation.step, "irf_duration": h.irf_duration, "method": h.radiation_method,
-                          "irf_d_omega": h.irf_d_omega, "state_space_tolerance": h.state_space_tolerance,
+                          "irf_d_omega": h.irf_d_omega, "damping_tail": h.damping_tail,
+                          "state_space_tolerance": h.state_space_tolerance,
                           "state_space_max_order": h.state_space_max_order},
             "excitation": {"method": h.excitation_method, "irf_duration": h.excitation_irf_duration},
             "nonlinear": {"hydrostatics": h.nonlinear_hydrostatics, "froude_krylov": h.nonlinear_froude_krylov,

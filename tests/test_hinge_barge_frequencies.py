@@ -21,24 +21,27 @@ their slave objects stepped by the same Jacobi master without the FMI C layer: s
 same variables).
 
 Measured (largest amplitude error over the seven quantities, largest phase error; the full table,
-the diagnosis and the database change are in docs/hinge_barge_frequencies.md; ``python -m pytest -s
--m "slow or not slow" tests/test_hinge_barge_frequencies.py`` prints every number, about 4 minutes):
+the diagnosis and the database changes are in docs/hinge_barge_frequencies.md; ``python -m pytest -s
+-m "slow or not slow" tests/test_hinge_barge_frequencies.py`` prints every number, about 2-4 minutes):
 
     omega rad/s   2.61   3.14   4.0    5.0    5.8    6.28   7.0    7.85
-    amplitude %   0.07   0.08   0.37   0.45   0.17   0.26   0.40   1.83 (barge 2 pitch)
-    phase deg     0.03   0.03   0.29   0.13   0.12   0.04   0.31   1.16
+    amplitude %   0.08   0.07   0.34   0.08   0.14   0.18   0.34   1.27 (barge 2 pitch, hinge rotation)
+    phase deg     0.02   0.04   0.33   0.12   0.10   0.08   0.28   0.58
 
-with the scenario's ``hydro.added_mass_inf = "ogilvie"`` (A_inf consistent with the database's A and
-B; with Capytaine's own A_inf, 7.0 rad/s was 1.25 % off in surge and 7.85 rad/s 7 %). 7.85 rad/s
-still fails the criterion in one quantity (strict xfail): the database's A(omega) and B(omega) are
-not Kramers-Kronig consistent to 1 % next to the 0.46 m gap's resonance (8.9 rad/s), so no causal
-time-domain model reproduces the database answer there; the runs match the exact answer of their
-own radiation model (impulse-response A and B) within 0.16 % / 0.12 deg (7.0) and 0.68 % / 0.35 deg
-(7.85), asserted separately.
+with the scenario's database (0.1 rad/s grid to 11 rad/s, 0.02 rad/s across the gap resonance at 8.9 rad/s),
+the Ogilvie-consistent A_inf, the damping tail and a 30 s impulse response. 7.85 rad/s fails the criterion in
+two quantities (strict xfail): there the exact answer itself is defined by the database only to about 4 %
+(reading its slightly asymmetric A and B transposed moves the hinge rotation by 4.5 %, asserted in
+test_the_database_defines_the_answer_to_its_own_asymmetry): both pitch responses nearly cancel there, and
+barge 2's moves 1 % per 0.1 kg m of the barge 2 surge-pitch added mass, whose two BEM entries differ by 0.18
+kg m.
+The runs match the exact answer of their own radiation model (impulse-response A and B) within 0.16 % /
+0.16 deg (7.0) and 0.72 % / 0.36 deg (7.85), asserted separately.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -48,7 +51,7 @@ import pytest
 from orchestrator import frequency_domain, study
 from orchestrator.analysis import harmonic_fit
 from orchestrator.scenario import load_scenario
-from orchestrator.scene import load_scene
+from orchestrator.scene import Scene, load_scene
 
 from .conftest import SCENARIOS
 
@@ -115,10 +118,32 @@ def test_cosimulated_hinge_barge_matches_the_exact_answer_mid_range() -> None:
 
 
 DATABASE_LIMIT = pytest.mark.xfail(strict=True, reason=(
-    "barge 2's pitch is 1.8 % off at 7.85 rad/s (all else within 1 % and 2 deg): the database's A(omega) and "
-    "B(omega) are not consistent (Kramers-Kronig) to 1 % next to the gap resonance at 8.9 rad/s, even with "
-    "the Ogilvie-consistent A_inf, so the causal time-domain model cannot reproduce A there; the run itself "
-    "matches its own exact answer (test_..._matches_the_exact_answer_of_its_own_radiation_model)"))
+    "at 7.85 rad/s the database does not define the exact answer to 1 %: reading its A and B transposed (equally "
+    "valid, the true coefficients are symmetric) moves the answer by more than 2 % "
+    "(test_the_database_defines_the_answer_to_its_own_asymmetry); the run matches its own radiation model's exact "
+    "answer (test_..._matches_the_exact_answer_of_its_own_radiation_model)"))
+
+
+def test_the_database_defines_the_answer_to_its_own_asymmetry() -> None:
+    """The exact answer is only as precise as the database. Radiation coefficients are symmetric (reciprocity);
+    a BEM's are not quite, and A_ij or A_ji is an equally valid reading. The exact answer with A and B transposed
+    differs from the one with A and B as given by less than 1 % and 1 deg up to 7.0 rad/s, where the time-domain
+    criterion is met, and by more than 2 % at 7.85 rad/s, where both pitch responses nearly cancel: there the
+    1 % criterion is below the data's own precision, which is why that case is an xfail."""
+    scene = load_scene(load_scenario(SCENARIO), log=None)
+    omega = np.array([2.61, 3.14, 4.0, 5.8, 6.28, 7.0, 7.85])
+    hdb = scene.hdb
+    swapped = dataclasses.replace(hdb, added_mass=np.swapaxes(hdb.added_mass, 1, 2),
+                                  radiation_damping=np.swapaxes(hdb.radiation_damping, 1, 2))
+    given = frequency_domain.solve(scene, omega).rao
+    other = frequency_domain.solve(Scene(scene.scenario, swapped, scene.hdb_file), omega).rao
+    given, other = (np.column_stack([x, x[:, 5] - x[:, 2]]) for x in (given, other))
+    amplitude = np.max(np.abs(np.abs(other) / np.abs(given) - 1), axis=1)
+    phase = np.max(np.abs(np.degrees(np.angle(other / given))), axis=1)
+    print("\n" + "\n".join(f"omega {w}: transposed database moves the answer by {100 * a:.2f} %, {p:.2f} deg"
+                             for w, a, p in zip(omega, amplitude, phase, strict=True)))
+    assert np.all(amplitude[:-1] < 0.01) and np.all(phase[:-1] < 1.0)
+    assert amplitude[-1] > 0.02
 
 
 @pytest.mark.slow

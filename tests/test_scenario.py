@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from orchestrator.errors import ScenarioError
@@ -10,6 +11,7 @@ from orchestrator.scenario import load_scenario, reference_markdown
 from .conftest import ROOT, SCENARIOS
 
 BASE = (SCENARIOS / "cylinder_regular.toml").read_text()
+REFINE = "irf_duration = 40.0\nomega_refine = "
 
 
 def write(tmp_path, text: str):
@@ -97,6 +99,12 @@ def test_bundled_scenarios_load() -> None:
      ["safety < 1"]),
     (lambda t: t + "\n[sweep]\nvalues = [1.0, 'two']\n", ["sweep.values[1]", "expected a number"]),
     (lambda t: t + "\n[sweep]\nperiods = [5.0, -1.0]\n", ["sweep.periods must be positive"]),
+    (lambda t: t.replace("irf_duration = 40.0", REFINE + "[{ start = 1.0, stop = 0.9, step = 0.01 }]"),
+     ["hydro.omega_refine[0]: stop must be larger than start"]),
+    (lambda t: t.replace("irf_duration = 40.0", REFINE + "[{ start = 1.0, stop = 1.2 }]"),
+     ["missing required key 'hydro.omega_refine[0].step'"]),
+    (lambda t: t.replace("irf_duration = 40.0", "irf_duration = 40.0\ndamping_tail = -3"),
+     ["hydro.damping_tail must not be negative"]),
 ])
 def test_invalid_scenarios_name_file_and_key(tmp_path, edit, fragments) -> None:
     assert_rejected(write(tmp_path, edit(BASE)), fragments)
@@ -120,3 +128,21 @@ def test_missing_scenario_file(tmp_path) -> None:
 def test_reference_page_matches_schema() -> None:
     """docs/scenario.md is generated from the schema; regenerate with python -m orchestrator.scenario."""
     assert (ROOT / "docs" / "scenario.md").read_text() == reference_markdown()
+
+
+def test_refined_frequency_grids_are_merged_into_the_bem_grid(tmp_path) -> None:
+    """hydro.omega_refine adds its frequencies to hydro.omega (shared ones once, sorted); without it the grid,
+    and so the database's cache key, is hydro.omega's alone."""
+    from hydro_fmu.bem import frequency_grid
+    from orchestrator.scene import bem_inputs
+
+    plain = load_scenario(write(tmp_path, BASE))
+    g = plain.hydro.omega
+    assert bem_inputs(plain)[1].omega == frequency_grid(g.start, g.stop, g.step)
+    refined = load_scenario(write(tmp_path, BASE.replace(
+        "irf_duration = 40.0", REFINE + "[{ start = 1.0, stop = 1.2, step = 0.01 }]")))
+    omega = refined.hydro.omega
+    grid = bem_inputs(refined)[1].omega
+    extra = frequency_grid(1.0, 1.2, 0.01)
+    assert set(frequency_grid(omega.start, omega.stop, omega.step)) <= set(grid) and set(extra) <= set(grid)
+    assert list(grid) == sorted(set(grid)) and np.min(np.diff(grid)) > 1e-9
