@@ -143,29 +143,27 @@ def test_irf_diagnostics_name_each_problem() -> None:
     assert any("K(t) is still 41% of its peak at the end" in m for m in messages)
 
 
+def second_order_pair(omega: np.ndarray, a: float = 0.5, b: float = 1.5, c: float = 200.0,
+                      a_inf: float = 50.0) -> tuple[np.ndarray, np.ndarray]:
+    """A(w), B(w) (Nw, 1, 1) of the causal kernel K(t) = c exp(-a t) (cos b t - (a/b) sin b t) (see the test
+    below): B = Re K^, A = A_inf + Im K^ / w with K^(w) = c i w / ((a + i w)^2 + b^2); B ~ 2 a c / w^2 at
+    high frequency."""
+    transform = c * 1j * omega / ((a + 1j * omega) ** 2 + b**2)
+    return (a_inf + transform.imag / omega)[:, None, None], transform.real[:, None, None]
+
+
 def test_ogilvie_recovers_the_infinite_frequency_added_mass_of_a_causal_kernel() -> None:
     """K(t) = c exp(-a t) (cos b t - (a/b) sin b t) (zero mean, so B(0) = 0 as for a floating body) has the
     transform K^(w) = c i w / ((a + i w)^2 + b^2): B = Re K^, A = A_inf + Im K^ / w (Ogilvie's relation in
     closed form). From A and B on a grid the fit returns A_inf, and its spread shows the data are consistent."""
-    a, b, c, a_inf = 0.5, 1.5, 200.0, 50.0
+    a_inf = 50.0
     omega = np.arange(0.05, 30.0 + 1e-9, 0.05)
-    transform = c * 1j * omega / ((a + 1j * omega) ** 2 + b**2)
-    damping = transform.real[:, None, None]
-    added = (a_inf + transform.imag / omega)[:, None, None]
+    added, damping = second_order_pair(omega, a_inf=a_inf)
     fitted, spread = ogilvie_added_mass_inf(omega, added, damping, 40.0)
     assert fitted[0, 0] == pytest.approx(a_inf, rel=1e-3)
     assert spread < 1e-3
     shifted, _ = ogilvie_added_mass_inf(omega, added + 2.0, damping, 40.0)  # follows A(omega), not a given A_inf
     assert shifted[0, 0] == pytest.approx(a_inf + 2.0, rel=1e-3)
-
-
-def second_order_pair(omega: np.ndarray, a: float = 0.5, b: float = 1.5, c: float = 200.0,
-                      a_inf: float = 50.0) -> tuple[np.ndarray, np.ndarray]:
-    """A(w), B(w) (Nw, 1, 1) of the causal kernel K(t) = c exp(-a t) (cos b t - (a/b) sin b t) (see the test
-    above): B = Re K^, A = A_inf + Im K^ / w with K^(w) = c i w / ((a + i w)^2 + b^2); B ~ 2 a c / w^2 at
-    high frequency."""
-    transform = c * 1j * omega / ((a + 1j * omega) ** 2 + b**2)
-    return (a_inf + transform.imag / omega)[:, None, None], transform.real[:, None, None]
 
 
 def test_damping_tail_restores_the_added_mass_of_a_truncated_table() -> None:
