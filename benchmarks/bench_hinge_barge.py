@@ -7,10 +7,6 @@ database, FMU build, about 3 s), the stepping loop's cost per macro step (hydrod
 multibody), and the largest difference of the barges' motion from the null-space (reduced ODE)
 run, relative to each coordinate's amplitude.
 
-The bundled database fails the 5 % symmetry check that came with the hydrodynamics issue
-(asymmetries of 7-13 % at 9-12 rad/s); the check has nothing to do with the cost measured here, so
-it is relaxed to 20 % for this benchmark only (the scenario itself is left as it is).
-
 Run: python benchmarks/bench_hinge_barge.py > benchmarks/results/hinge_barge.txt
 """
 
@@ -36,7 +32,6 @@ def run(formulation: str, integrator: str, max_step: float, duration: float, fol
     s = load_scenario(ROOT / "scenarios" / "hinge_barge.toml")
     s.multibody.formulation, s.multibody.integrator, s.multibody.max_step = formulation, integrator, max_step
     s.simulation.duration = duration
-    s.hydro.check_tolerance = 0.2  # see the module docstring
     out = folder / f"{formulation}_{max_step}.h5"
     t0 = time.perf_counter()
     result = run_scenario(s, out, in_process=True, progress=False, log=None)

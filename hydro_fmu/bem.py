@@ -84,6 +84,10 @@ class BemSettings:
         headings_deg: wave headings (deg), 0 = waves towards +x.
         rho, g, water_depth: kg/m^3, m/s^2, m (``inf`` for deep water).
         method: Capytaine boundary-integral formulation, ``indirect`` or ``direct``.
+        symmetry: ``none``, or ``xOz``: every body is mirror-symmetric about the plane y = 0, and
+            Capytaine solves on half meshes (:func:`reflection_symmetric`). Same discretisation
+            except that panels crossing y = 0 are split in two; 2.3 times faster per frequency at
+            5400 panels (``benchmarks/bench_bem_symmetry.py``).
     """
 
     omega: tuple[float, ...]
@@ -92,6 +96,7 @@ class BemSettings:
     g: float = 9.81
     water_depth: float = math.inf
     method: str = "indirect"
+    symmetry: str = "none"
     extra: dict = field(default_factory=dict, compare=False)
 
 
@@ -124,6 +129,8 @@ def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
         items.append(item)
     settings_dict = asdict(settings)
     settings_dict.pop("extra")
+    if settings.symmetry == "none":  # keys of databases made before the option existed stay valid
+        settings_dict.pop("symmetry")
     payload = {
         "version": BEM_CACHE_VERSION,
         "capytaine": ".".join(capytaine.__version__.split(".")[:2]),
@@ -173,7 +180,9 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> 
             report.raise_errors()
             for message in report.warnings:
                 (log or log_warning)(f"body {body.name!r} (mesh {body.geometry.mesh_file}): {message}")
-    cpt_bodies = [_floating_body(b) for b in bodies]
+    if settings.symmetry not in ("none", "xOz"):
+        raise HydroDatabaseError(f"unknown BEM symmetry {settings.symmetry!r}; expected 'none' or 'xOz'")
+    cpt_bodies = [_floating_body(b, settings.symmetry) for b in bodies]
     system = cpt_bodies[0] if len(cpt_bodies) == 1 else cpt.Multibody(cpt_bodies)
     dofs = list(system.dofs)
     solver = cpt.BEMSolver(method=settings.method) if settings.method != "indirect" else cpt.BEMSolver()
@@ -242,11 +251,13 @@ def body_mesh(geometry: BodyGeometry) -> SurfaceMesh:
     return local.transformed(euler_xyz(geometry.rotation_deg), geometry.position)
 
 
-def _floating_body(body: BemBody):
+def _floating_body(body: BemBody, symmetry: str = "none"):
     """Capytaine ``FloatingBody`` for one body: immersed mesh, lid, 6 rigid DOFs about its cg."""
     import capytaine as cpt
 
     mesh = _mesh(body.geometry)
+    if symmetry == "xOz":  # before clipping at the waterline, which may cut panels asymmetrically
+        mesh = reflection_symmetric(mesh, body.name)
     immersed = mesh.immersed_part()
     if immersed.nb_faces == 0:
         raise HydroDatabaseError(f"body {body.name!r}: the mesh has no panel below the waterline z = 0")
@@ -260,6 +271,30 @@ def _floating_body(body: BemBody):
         center_of_mass=body.cg,
         name=body.name,
     )
+
+
+def reflection_symmetric(mesh, name: str, tolerance: float = 1e-6):
+    """The half y >= 0 of a Capytaine mesh as a ``ReflectionSymmetricMesh`` about the plane y = 0.
+
+    Panels that cross y = 0 are cut in two. Raises :class:`HydroDatabaseError` (naming the body)
+    if the mesh is not its own mirror image: some panel centre has no mirror partner within
+    ``tolerance`` times the mesh's size.
+    """
+    import capytaine as cpt
+    from scipy.spatial import cKDTree
+
+    centres = np.asarray(mesh.faces_centers)
+    mirrored = centres * np.array([1.0, -1.0, 1.0])
+    size = float(np.ptp(np.asarray(mesh.vertices), axis=0).max())
+    gap, _ = cKDTree(centres).query(mirrored)
+    if gap.max() > tolerance * size:
+        worst = mirrored[int(np.argmax(gap))] * np.array([1.0, -1.0, 1.0])
+        raise HydroDatabaseError(
+            f"body {name!r} is not mirror-symmetric about the plane y = 0 (hydro.bem_symmetry = 'xOz'): the panel "
+            f"at {np.round(worst, 4).tolist()} m has no mirror image (nearest {gap.max():.3g} m away); "
+            "set hydro.bem_symmetry = 'none'")
+    half = mesh.clipped(origin=(0.0, 0.0, 0.0), normal=(0.0, -1.0, 0.0))
+    return cpt.ReflectionSymmetricMesh(half=half, plane="xOz", name=mesh.name)
 
 
 def _lid_panel(geometry: BodyGeometry) -> float:

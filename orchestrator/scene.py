@@ -62,6 +62,7 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         omega=merged_grid(*(frequency_grid(g.start, g.stop, g.step) for g in [h.omega, *h.omega_refine])),
         headings_deg=tuple(h.headings_deg),
         rho=env.rho, g=env.g, water_depth=env.water_depth, method=h.bem_method,
+        symmetry=h.bem_symmetry,
     )
     return bodies, settings
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
-from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cache_key, cached_database
+from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cache_key, cached_database, compute_database
+from hydro_fmu.hdb import HydroDatabaseError
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import bem_inputs
 
@@ -76,3 +78,28 @@ def test_bundled_scenarios_ship_their_database(name) -> None:
     key = cache_key(bodies, settings)
     files = list((SCENARIOS / scenario.hydro.cache_dir).glob(f"*-{key}.h5"))
     assert files, f"no cached database with key {key} for {name}; run `wec-cosim hydro scenarios/{name}.toml`"
+
+
+def test_mirror_symmetry_solve_equals_the_full_solve() -> None:
+    """``symmetry = "xOz"`` solves on half meshes; with no panel crossing y = 0 the discretisation is the same,
+    so every coefficient must equal the full solve's to round-off (two bodies: interaction included). Without lids:
+    a lid is generated from the half waterline, so its panels differ from the full mesh's lid."""
+    bodies = [BemBody("bow", BodyGeometry("box", size=(1.0, 0.5, 0.6), position=(0.0, 0.0, -0.1), panel_size=0.25,
+                                          lid=False), (0.0, 0.0, -0.15)),
+              BemBody("stern", BodyGeometry("box", size=(1.5, 0.5, 0.3), position=(1.6, 0.0, 0.0), panel_size=0.25,
+                                            lid=False), (1.6, 0.0, -0.05))]
+    full = compute_database(bodies, BemSettings(omega=(1.0, 4.0), headings_deg=(0.0, 30.0), rho=RHO, g=G))
+    half = compute_database(bodies, BemSettings(omega=(1.0, 4.0), headings_deg=(0.0, 30.0), rho=RHO, g=G,
+                                                symmetry="xOz"))
+    for name in ("added_mass", "radiation_damping", "added_mass_inf", "excitation", "hydrostatic_stiffness"):
+        a, b = getattr(full, name), getattr(half, name)
+        np.testing.assert_allclose(b, a, rtol=0, atol=1e-7 * np.abs(a).max(), err_msg=name)
+    settings = BemSettings(omega=(1.0,))
+    assert cache_key(bodies, settings) != cache_key(bodies, dataclasses.replace(settings, symmetry="xOz"))
+
+
+def test_mirror_symmetry_of_an_asymmetric_body_is_an_error() -> None:
+    off_centre = BemBody("float", BodyGeometry("box", size=(1.0, 0.5, 0.6), position=(0.0, 0.3, 0.0),
+                                               panel_size=0.25), (0.0, 0.3, -0.1))
+    with pytest.raises(HydroDatabaseError, match="'float' is not mirror-symmetric about the plane y = 0"):
+        compute_database([off_centre], BemSettings(omega=(1.0,), symmetry="xOz"))

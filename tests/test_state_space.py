@@ -125,6 +125,28 @@ def test_state_space_reproduces_the_convolution_decay_and_converges(disc) -> Non
     assert values[-1] < 0.1 * values[0], differences
 
 
+def test_state_space_fits_the_kernel_with_the_damping_tail(disc) -> None:
+    """With ``damping_tail`` the kernel carries B's continuation above the database (up to 100 Omega), which the
+    fit samples at pi / (2 Omega) (its content above 2 Omega aliases; the fit is checked against the full kernel).
+    The state-space decay must still follow the convolution decay with the same tail within 1 % of x0, and the
+    tail must matter more than that (else this checks nothing): the disc's B is 11 % of its peak at the last
+    frequency."""
+    x0 = 0.2
+    disc.scenario.hydro.damping_tail = 0.0
+    untailed = decay(disc, "convolution")
+    disc.scenario.hydro.damping_tail = 2.0
+    try:
+        reference = decay(disc, "convolution")
+        fitted = decay(disc, "state_space")
+    finally:
+        disc.scenario.hydro.damping_tail = 0.0
+    tail_effect = np.abs(reference - untailed).max() / x0
+    fit_error = np.abs(fitted - reference).max() / x0
+    print(f"\ntail effect {100 * tail_effect:.2f} % of x0, state space against convolution {100 * fit_error:.2f} %")
+    assert fit_error < 0.01
+    assert tail_effect > 2 * fit_error
+
+
 def test_state_space_co_simulation_matches_the_exact_decay(tmp_path) -> None:
     """The disc's decay through the FMUs with the state-space radiation model (any step size) against
     the exact frequency-domain decay; the FMU reports the fitted order and error."""
