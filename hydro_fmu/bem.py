@@ -86,8 +86,9 @@ class BemSettings:
         method: Capytaine boundary-integral formulation, ``indirect`` or ``direct``.
         symmetry: ``none``, or ``xOz``: every body is mirror-symmetric about the plane y = 0, and
             Capytaine solves on half meshes (:func:`reflection_symmetric`). Same discretisation
-            except that panels crossing y = 0 are split in two; 2.3 times faster per frequency at
-            5400 panels (``benchmarks/bench_bem_symmetry.py``).
+            except that panels crossing y = 0 are split in two and the lid is generated from the
+            half waterline; 2.3 times faster per frequency at 5400 panels
+            (``benchmarks/bench_bem_symmetry.py``).
     """
 
     omega: tuple[float, ...]
