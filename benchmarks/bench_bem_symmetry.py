@@ -40,7 +40,7 @@ def timed(bodies, settings) -> tuple[float, object]:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--panel", type=float, default=0.03, help="panel size (m)")
-    parser.add_argument("--extra", type=int, default=4, help="frequencies added to the one-frequency run")
+    parser.add_argument("--extra", type=int, default=4, help="frequencies added to the two-frequency run")
     parser.add_argument("--out", default=None)
     args = parser.parse_args(argv)
 
