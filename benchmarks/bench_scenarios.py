@@ -1,0 +1,73 @@
+"""Wall time and real-time factor of every bundled device scenario at its default settings.
+
+Each scenario is run as a user runs it (``wec-cosim run SCENARIO``: scene, database from the
+committed cache, FMUs through fmpy, the scenario's own master, step and duration), ``--repeat``
+times; the table gives the median and minimum of the whole run's wall time (set-up included)
+and of the stepping loop's (``RunResult.wall_time``), and the real-time factor of the loop.
+
+Run (on a quiet machine; the load average is recorded in the output):
+
+    python benchmarks/bench_scenarios.py --repeat 3 --out benchmarks/results/scenarios.txt
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from common import write_report
+
+from orchestrator.scenario import load_scenario
+from orchestrator.simulation import run_scenario
+
+ROOT = Path(__file__).resolve().parent.parent
+
+# (scenario file under scenarios/, what it is). Add a line per bundled device scenario.
+SCENARIOS: list[tuple[str, str]] = [
+    ("cylinder_regular.toml", "one float, heave, regular waves"),
+    ("cylinder_irregular.toml", "one float, heave, irregular sea"),
+    ("hinge_barge.toml", "seed 003 two-body hinge barge, index-3"),
+]
+
+
+def run_once(path: Path, folder: Path) -> tuple[float, float, float]:
+    """(whole-run wall s, stepping-loop wall s, simulated s) of one run."""
+    scenario = load_scenario(path)
+    start = time.perf_counter()
+    result = run_scenario(scenario, folder / f"{path.stem}.h5", progress=False, log=None)
+    return time.perf_counter() - start, result.wall_time, result.simulated_time
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--only", nargs="*", help="scenario file names to run (default: all in the table)")
+    parser.add_argument("--out", help="also write the report to this file")
+    a = parser.parse_args(argv)
+    lines = [f"# command: python benchmarks/bench_scenarios.py --repeat {a.repeat}"
+             + (f" --only {' '.join(a.only)}" if a.only else ""),
+             f"# python {platform.python_version()}, {os.cpu_count()} cores, load average at start "
+             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}",
+             f"{'scenario':<28}{'simulated s':>12}{'run s med':>10}{'run s min':>10}{'loop s med':>11}"
+             f"{'RTF (loop, med)':>16}  what"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, what in SCENARIOS:
+            if a.only and name not in a.only:
+                continue
+            runs = [run_once(ROOT / "scenarios" / name, Path(tmp)) for _ in range(a.repeat)]
+            whole = [r[0] for r in runs]
+            loop = [r[1] for r in runs]
+            simulated = runs[0][2]
+            lines.append(f"{name:<28}{simulated:12.1f}{statistics.median(whole):10.2f}{min(whole):10.2f}"
+                         f"{statistics.median(loop):11.2f}{simulated / statistics.median(loop):16.1f}  {what}")
+    lines.append(f"# load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    write_report(lines, a.out)
+
+
+if __name__ == "__main__":
+    main()
