@@ -389,8 +389,11 @@ class Scene:
 
     def _pto_coordinate(self, p, joints: dict) -> dict:
         if p.joint:
-            return {"kind": "joint", "joint": p.joint, "index": 0,
-                    "rotational": joints[p.joint].kind in ("revolute",)}
+            from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+            index = p.joint_coordinate - 1
+            return {"kind": "joint", "joint": p.joint, "index": index,
+                    "rotational": JOINT_COORDINATE_UNITS[joints[p.joint].kind][index][0] == "rad"}
         if p.point:
             return {"kind": "points", "body1": p.body, "point1": list(p.point),
                     "body2": self._ground(p.body2), "point2": list(p.point2)}
