@@ -40,8 +40,13 @@ ARM_DEPTH = 0.4  # m, seed 000: link-arm centre of gravity at 0.4 m depth; the j
 NODE_CG_DEPTH = 0.3  # m, seed 000 Table 2 (CoG z = -0.3 for every node)
 RHO, G = 1000.0, 9.81  # fresh water (tank-scale device)
 
-# 4N3LA node positions, seed 000 Table 2 (x, y) in m.
+# 4N3LA node positions, seed 000 Table 2 (x, y) in m, as printed: rounded to 1 cm.
 TABLE_2 = {"S3": (0.0, 0.0), "C1": (0.7, -1.21), "S1": (0.0, -2.42), "S2": (2.1, -1.21)}
+# The trigonometry behind them: S3 at the origin, C1 at 1.4 m and -60 deg, S1 and S2 at 1.4 m from C1
+# at 240 and 0 deg (so 1.21 is 1.4 sin 60 = 1.2124). The scenes use the unrounded values: with the
+# rounded ones the three arms are 1.3979, 1.3979 and 1.4 m long and 0.05 deg off 120 deg apart, and
+# the mooring pretension no longer balances at C1 (the reference pose is not an equilibrium).
+C1 = np.array([0.0, 0.0]) + ARM_LENGTH * np.array([math.cos(math.radians(-60)), math.sin(math.radians(-60))])
 
 
 @dataclass(frozen=True)
@@ -128,8 +133,8 @@ def polar(angle_deg: float, length: float = ARM_LENGTH) -> np.ndarray:
 
 
 def layout_4n3la() -> tuple[dict[str, np.ndarray], list[tuple[str, str, str]], list[str]]:
-    """Node positions (x, y), link arms (name, node, node) and moored nodes of 4N3LA."""
-    nodes = {name: np.array(xy) for name, xy in TABLE_2.items()}
+    """Node positions (x, y), link arms (name, node, node) and moored nodes of 4N3LA (Table 2, unrounded)."""
+    nodes = {"S3": np.zeros(2), "C1": C1, "S1": C1 + polar(240), "S2": C1 + polar(0)}
     arms = [("LA1", "C1", "S1"), ("LA2", "C1", "S2"), ("LA3", "C1", "S3")]
     return nodes, arms, ["S1", "S2", "S3"]
 
@@ -139,15 +144,14 @@ def layout_9n9la() -> tuple[dict[str, np.ndarray], list[tuple[str, str, str]], l
 
     From C1 the honeycomb steps along 120 and 240 deg to D1 and D2 (4N3LA's S3 and S1), from D1 and
     D2 along 180 deg to C2 and C3, from C2 along 240 deg to D3; S nodes leave C2 at 120 deg and C3
-    at 240 deg (C1's is S2 at 0 deg). Rounded to 1 mm, as Table 2 is (1.4 sin 60 = 1.2124 -> 1.21).
+    at 240 deg (C1's is S2 at 0 deg).
     """
-    c1 = np.array(TABLE_2["C1"])
+    c1 = C1
     d1, d2 = c1 + polar(120), c1 + polar(240)
     c2, c3 = d1 + polar(180), d2 + polar(180)
     d3 = c2 + polar(240)
     nodes = {"C1": c1, "C2": c2, "C3": c3, "D1": d1, "D2": d2, "D3": d3,
              "S1": c3 + polar(240), "S2": c1 + polar(0), "S3": c2 + polar(120)}
-    nodes = {k: np.round(v, 2) for k, v in nodes.items()}
     arms = [("LA1", "C1", "D2"), ("LA2", "C1", "S2"), ("LA3", "C1", "D1"), ("LA4", "C2", "S3"),
             ("LA5", "D1", "C2"), ("LA6", "C2", "D3"), ("LA7", "D3", "C3"), ("LA8", "C3", "S1"),
             ("LA9", "C3", "D2")]
