@@ -348,7 +348,10 @@ class Scene:
              "position": list(j.position), "axis": list(j.axis), "axis2": list(j.axis2) or None,
              "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
         kinds = {j.name: j.kind for j in s.joints}
-        spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
+        from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+        first_unit = {name: (JOINT_COORDINATE_UNITS[kind] or [("", "")])[0][0] for name, kind in kinds.items()}
+        spec["forces"] = [dict(self._force_spec(e), rotational=first_unit.get(e.joint) == "rad") for e in s.forces]
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
         for p, out in zip(s.ptos, spec["ptos"], strict=True):

@@ -57,6 +57,10 @@ class NodeEstimate:
     draft: float = 0.5  # m (below the cg at 0.3 m depth: centre of buoyancy 0.05 m above the cg)
     height: float = 0.7  # m, whole height (0.2 m freeboard) for the inertia
     panel_size: float = 0.0625  # m: 26 panels round, 8 down, 4 across the bottom (312 per node)
+    # Linear viscous damping (surge..yaw): about 5 % of critical in heave, roll and pitch. Potential flow
+    # alone damps this deep float's heave by 1.2 % of critical at its resonance (3.8 rad/s) and its pitch
+    # by less than 1 %; tank floats of this size see several per cent from viscous losses.
+    linear_damping: tuple[float, ...] = (20.0, 20.0, 50.0, 2.5, 2.5, 1.0)  # N s/m, N m s/rad
 
     def panels_round(self) -> int:
         """Sides of the polygon Capytaine meshes the cylinder with (hydro_fmu.bem._primitive_mesh)."""
@@ -89,6 +93,17 @@ class ArmEstimate:
 
 
 @dataclass(frozen=True)
+class SpinHold:
+    """A weak rotary spring-damper on the relative roll (about the arm) at one end of each arm. Two spherical
+    joints leave an arm free to spin about its own axis: a mode of zero stiffness and damping that the
+    second-order part of the pitch and yaw PTO torques drives (their rotation-vector Jacobians mix in the
+    roll). Small against the PTOs and the nodes' roll stiffness (77 N m/rad)."""
+
+    stiffness: float = 2.0  # N m/rad
+    damping: float = 1.0  # N m s/rad
+
+
+@dataclass(frozen=True)
 class MooringEstimate:
     """A taut mooring line of two rope segments joined at a point mass ("rope connection points as
     3D mass elements", seed 000), radially outwards from the array at 45 deg down to an anchor."""
@@ -97,7 +112,7 @@ class MooringEstimate:
     depth: float = 3.0  # m from fairlead down to anchor
     tension: float = 60.0  # N pretension (the lines stay taut in the scenes' seas)
     stiffness: float = 1000.0  # N/m per segment (EA / segment length)
-    damping: float = 20.0  # N s/m per segment
+    damping: float = 100.0  # N s/m per segment (damps the lines' axial mode and the array's slow drift on them)
     point_mass: float = 5.0  # kg, neutrally buoyant connection (shackle and float)
 
     @property
@@ -124,7 +139,7 @@ class PtoEstimate:
     damping: float = 4.0  # N m s/rad
 
 
-NODE, ARM, MOORING, PTO = NodeEstimate(), ArmEstimate(), MooringEstimate(), PtoEstimate()
+NODE, ARM, MOORING, PTO, SPIN = NodeEstimate(), ArmEstimate(), MooringEstimate(), PtoEstimate(), SpinHold()
 
 
 def polar(angle_deg: float, length: float = ARM_LENGTH) -> np.ndarray:
@@ -186,7 +201,7 @@ def scenario_text(name: str, layout, header: str, waves: str, simulation: str, h
         cg = [xy[0], xy[1], -NODE_CG_DEPTH]
         mass = RHO * volume - (MOORING.vertical_pull / G if n in moored else 0.0)
         out += ["[[bodies]]", f'name = "{n}"', f"cg = {vec(cg)}", f"mass = {fmt(mass)}",
-                f"inertia = {vec(NODE.inertia(mass))}",
+                f"inertia = {vec(NODE.inertia(mass))}", f"linear_damping = {vec(NODE.linear_damping)}",
                 "[bodies.geometry]", 'shape = "vertical_cylinder"', f"radius = {fmt(NODE.radius)}",
                 f"draft = {fmt(NODE.draft)}", f"position = {vec([xy[0], xy[1], 0.0])}",
                 f"panel_size = {fmt(NODE.panel_size)}", ""]
@@ -211,6 +226,9 @@ def scenario_text(name: str, layout, header: str, waves: str, simulation: str, h
                          f"joint_coordinate = {k}", f"stiffness = {fmt(PTO.stiffness)}",
                          f"damping = {fmt(PTO.damping)}", ""]
     moorings, forces = [], []
+    for a, n1, _ in arms:
+        forces += ["[[forces]]", f'name = "{a}_spin"', 'kind = "rotary_spring_damper"', f'joint = "{a}_{n1}"',
+                   f"stiffness = {fmt(SPIN.stiffness)}", f"damping = {fmt(SPIN.damping)}", ""]
     for n in moored:
         p = nodes[n]
         e = (p - centre) / np.linalg.norm(p - centre)
@@ -240,7 +258,7 @@ HEADER = """# {title}: seed 000 (section IV, Table 2), node/link-arm {what}.
 
 SIMULATION = """[simulation]
 duration = {duration}
-step = 0.02             # s: Tp / 80
+step = 0.025            # s: Tp / 64
 extrapolation = 2
 steady_periods = 10
 """
@@ -250,6 +268,7 @@ kind = "irregular"
 spectrum = "jonswap"
 hs = 0.06               # m (tank scale; the ropes stay taut)
 tp = 1.6                # s, near the nodes' heave and pitch resonances
+omega_max = 12.0        # rad/s: the databases' top (1.4 % of the spectrum's energy lies above)
 seed = 3
 """
 
