@@ -32,6 +32,8 @@ SCENARIOS: list[tuple[str, str]] = [
     ("cylinder_regular.toml", "one float, heave, regular waves"),
     ("cylinder_irregular.toml", "one float, heave, irregular sea"),
     ("hinge_barge.toml", "seed 003 two-body hinge barge, index-3"),
+    ("array_4n3la.toml", "seed 000 4N3LA: 4 nodes, 3 link arms, 12 PTOs, irregular sea, index-3"),
+    ("array_9n9la.toml", "seed 000 9N9LA: 9 nodes, 9 arms, hexagonal loop, 36 PTOs, irregular sea, index-3"),
 ]
 
 

@@ -277,6 +277,35 @@ GRID_9 = ("omega = { start = 0.2, stop = 12.0, step = 0.2 }   # 0.2 rad/s keeps 
           "(docs/arrays.md: the 4N3LA database at 0.1 and 0.2 rad/s)")
 
 
+# Mean power against the PTOs' stiffness and damping (all PTOs together): `wec-cosim sweep` with the Dask-based
+# sweep of issue 18 (`[sweep.grid]`, one case per combination). It needs a key path for every PTO at once,
+# `ptos.*.<key>` (issue 18's grid names one PTO per key); the table is written when the scenario schema
+# has `sweep.grid` (docs/arrays.md: what remains after that merge).
+SWEEP_GRID = f"""# `wec-cosim sweep SCENARIO --out sweep.h5`: mean power of every PTO (and their total) in the
+# irregular sea against the PTOs' common stiffness and damping, around the baseline
+# {PTO.stiffness:g} N m/rad, {PTO.damping:g} N m s/rad (exact frequency domain; `--method time_domain`
+# co-simulates each case).
+[sweep]
+method = "frequency_domain"
+[sweep.grid]
+"ptos.*.stiffness" = [{PTO.stiffness / 2:g}, {PTO.stiffness:g}, {2 * PTO.stiffness:g}]   # N m/rad
+"ptos.*.damping" = [{PTO.damping / 2:g}, {PTO.damping:g}, {2 * PTO.damping:g}]          # N m s/rad
+"""
+
+
+def schema_has_sweep_grid() -> bool:
+    """True once the scenario schema has issue 18's `[sweep.grid]` (the one-key sweep before it has none)."""
+    import dataclasses
+    import sys
+
+    sys.path.insert(0, str(SCENARIOS.parent))
+    try:
+        from orchestrator.scenario import SweepSection
+    except ImportError:
+        return False
+    return "grid" in {f.name for f in dataclasses.fields(SweepSection)}
+
+
 def main() -> None:
     files = {
         "array_4n3la.toml": scenario_text(
@@ -287,8 +316,9 @@ def main() -> None:
             HEADER.format(title="9N9LA", what="array: 9 nodes, 9 link arms, a hexagonal closed loop"),
             IRREGULAR, SIMULATION.format(duration="300.0"), GRID_9),
     }
+    sweep = SWEEP_GRID if schema_has_sweep_grid() else ""
     for name, text in files.items():
-        (SCENARIOS / name).write_text(text)
+        (SCENARIOS / name).write_text(text + ("\n" + sweep if sweep else ""))
         print(f"wrote {SCENARIOS / name}")
 
 
