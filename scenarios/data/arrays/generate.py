@@ -56,7 +56,7 @@ class NodeEstimate:
     radius: float = 0.25  # m
     draft: float = 0.5  # m (below the cg at 0.3 m depth: centre of buoyancy 0.05 m above the cg)
     height: float = 0.7  # m, whole height (0.2 m freeboard) for the inertia
-    panel_size: float = 0.0625  # m: 26 panels round, 8 down, 4 across the bottom (312 per node)
+    panel_size: float = 0.085  # m: 19 panels round, 6 down, 3 across the bottom (171 per node)
     # Linear viscous damping (surge..yaw): about 5 % of critical in heave, roll and pitch. Potential flow
     # alone damps this deep float's heave by 1.2 % of critical at its resonance (3.8 rad/s) and its pitch
     # by less than 1 %; tank floats of this size see several per cent from viscous losses.
@@ -195,7 +195,7 @@ def scenario_text(name: str, layout, header: str, waves: str, simulation: str, h
             "irf_d_omega = 0.02      # B resampled for the impulse response",
             "damping_tail = 3.0      # B continued as B(12) (12/omega)^3 above the database",
             'added_mass_inf = "ogilvie"', "",
-            "[rao]", "omega = { start = 1.0, stop = 8.0, step = 0.1 }", "",
+            "[rao]", "omega = { start = 0.5, stop = 12.0, step = 0.05 }   # the sea's range: irregular statistics", "",
             "[multibody]", 'formulation = "index3"', "spectral_radius = 0.8", ""]
     for n, xy in nodes.items():
         cg = [xy[0], xy[1], -NODE_CG_DEPTH]
@@ -272,7 +272,7 @@ omega_max = 12.0        # rad/s: the databases' top (1.4 % of the spectrum's ene
 seed = 3
 """
 
-GRID_4 = "omega = { start = 0.1, stop = 12.0, step = 0.1 }   # 312 panels per node, 7 per wavelength at 12 rad/s"
+GRID_4 = "omega = { start = 0.1, stop = 12.0, step = 0.1 }   # 171 panels per node, 5 per wavelength at 12 rad/s"
 GRID_9 = ("omega = { start = 0.2, stop = 12.0, step = 0.2 }   # 0.2 rad/s keeps the 54-DOF database at 2.8 MB "
           "(docs/arrays.md: the 4N3LA database at 0.1 and 0.2 rad/s)")
 
