@@ -219,26 +219,33 @@ def test_arrays_match_the_frequency_domain_at_three_frequencies(tmp_path, name, 
 
 # ---------------------------------------------------------------------------------------------- drift
 def drift(name: str, duration: float, h: float) -> tuple[float, float]:
-    """The scene's multibody model (as its FMU builds it, A_inf in the mass matrix) driven by the scene's own
-    irregular-sea excitation, hydrostatic and viscous forces (the hydro model in-process, radiation memory
-    off so that a long run stays cheap), index-3 generalised-alpha at step ``h``. Returns the largest
-    constraint residual (m) and the largest relative-pitch PTO angle seen (rad)."""
-    from hydro_fmu.model import ForceSwitches
+    """The scene's multibody model (as its FMU builds it, A_inf in the mass matrix) with each node's linear
+    hydrostatic stiffness and viscous damping added as implicit 6x6 spring-dampers (what the hydro FMU's
+    -C x and linear damping are: inside the implicit step, as held inputs over a 0.2 s step they would act
+    with a delay that feeds the heave resonance), driven by the scene's irregular-sea excitation and radiation
+    memory (the hydro model in-process, radiation on the step's grid), index-3 generalised-alpha at step
+    ``h``. Returns the largest constraint residual (m) and the largest relative pitch or yaw angle seen (rad)."""
+    from mbd_fmu.moorings import LinearMooring
 
     s = load_scenario(SCENARIOS / f"{name}.toml")
-    s.hydro.radiation = False
+    s.hydro.hydrostatics = s.hydro.viscous = False
     s.simulation.duration = duration
     sc = load_scene(s, log=None)
     hydro = sc.hydro_model(h)
-    assert hydro.switches == ForceSwitches(radiation=False)
     sim = sc.multibody_simulator()
-    slots = np.array([sim.model.slot_of(b, d) for b, d in sc.hydro_coordinates])
-    inputs = np.zeros(sim.model.n)
-    worst, motion, t = 0.0, 0.0, 0.0
+    model = sim.model
+    for i, b in enumerate(s.hydro_bodies):
+        body = model.index(b.name)
+        model.elements.append(LinearMooring(f"{b.name}_hydrostatics", body, sc.hdb.hydrostatic_stiffness[i],
+                                            np.diag(b.linear_damping), model.cg[body].copy()))
+    sim.start(model.reference.copy(), np.zeros(model.n))
+    slots = np.array([model.slot_of(b, d) for b, d in sc.hydro_coordinates])
+    inputs = np.zeros(model.n)
+    worst, motion = 0.0, 0.0
     for k in range(round(duration / h)):
         t = k * h
         x, v = sim.displacement()[slots], sim.velocity()[slots]
-        inputs[slots] = hydro.forces(t, x, v).total
+        inputs[slots] = hydro.forces(t, x, v).total  # excitation and radiation memory
         hydro.advance(t, h, v)
         sim.advance(h, inputs)
         worst = max(worst, sim.constraint_violation())
@@ -246,17 +253,66 @@ def drift(name: str, duration: float, h: float) -> tuple[float, float]:
     return worst, motion
 
 
+def test_4n3la_constraints_do_not_drift_over_ten_minutes() -> None:
+    """600 s of the irregular sea at 0.2 s steps (3000 steps): the 18 constraint equations stay satisfied to
+    1e-9 m while the nodes pitch and yaw against their arms by a tenth of a radian (9N9LA's closed loop: the
+    same in the slow suite, about twice as dear)."""
+    worst, motion = drift("array_4n3la", 600.0, 0.2)
+    assert worst < 1e-9
+    assert motion > 0.01
+
+
+@pytest.mark.slow
 def test_9n9la_constraints_do_not_drift_over_ten_minutes() -> None:
-    """600 s of the irregular sea at 0.2 s steps (3000 steps): the closed hexagonal loop's 54 constraint
-    equations stay satisfied to 1e-9 m, while the nodes pitch against their arms by centiradians."""
+    """The closed hexagonal loop's 54 constraint equations over 600 s at 0.2 s steps."""
     worst, motion = drift("array_9n9la", 600.0, 0.2)
     assert worst < 1e-9
-    assert motion > 1e-3
+    assert motion > 0.01
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ARRAYS)
 def test_arrays_constraints_do_not_drift_over_three_hours(name) -> None:
-    worst, motion = drift(name, 3 * 3600.0, 0.1)
+    worst, motion = drift(name, 3 * 3600.0, 0.2)
     assert worst < 1e-9
-    assert motion > 1e-3
+    assert motion > 0.01
+
+
+# ---------------------------------------------------------------------------------------------- irregular sea
+def irregular_check(name: str, path) -> dict:
+    """The default irregular run against the linear frequency-domain answer for the same discretised sea:
+    each component's exact mean power (the RAO's at its frequency times a_k^2) summed. Over the run's whole
+    length, which is the sea's repeat period, different components are orthogonal, so for the linear scene
+    the two agree up to the start-up (ramp and transients: the first 3 Tp + 15 s are left out, which breaks
+    that orthogonality at the level of a few per cent) and the ropes' slackness if any."""
+    s = load_scenario(SCENARIOS / f"{name}.toml")
+    sc = load_scene(s, log=None)
+    waves = sc.waves()
+    fd = frequency_domain.solve(sc, waves.omega)
+    data = read_results(path)
+    t = data["time"]
+    mask = t >= s.ramp_time + s.hydro.irf_duration
+    total_td = sum(window_mean(t, data[f"ptos/{p.name}/power"], mask) for p in s.ptos)
+    total_fd = sum(float(np.sum(fd.pto_power[p.name] * waves.amplitude**2)) for p in s.ptos)
+    account = energy_account_of(data)
+    return {"td": total_td, "fd": total_fd, "residual": account["residual"] / account["work_in"]}
+
+
+def energy_account_of(data: dict) -> dict:
+    from orchestrator.simulation import energy_account
+
+    return energy_account(data)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ARRAYS)
+def test_irregular_sea_mean_power_and_energy_account(tmp_path, name) -> None:
+    """The scenario as bundled (300 s, FMU slaves in-process): total PTO power within 5 % of the linear
+    answer for the same components, the energy account closed to 1 %, the constraints held."""
+    s = load_scenario(SCENARIOS / f"{name}.toml")
+    run_scenario(s, tmp_path / "run.h5", in_process=True, progress=False, log=None)
+    out = irregular_check(name, tmp_path / "run.h5")
+    print(name, out)
+    assert out["td"] == pytest.approx(out["fd"], rel=0.05)
+    assert abs(out["residual"]) < 0.01
+    assert np.max(read_results(tmp_path / "run.h5")["mbd/constraint_violation"]) < 1e-9
