@@ -147,40 +147,43 @@ def regular_scenario(name: str, omega: float, duration: float, steps_per_period:
 def check_against_frequency_domain(s, path, result) -> dict:
     """Steady harmonics of the run against the exact linear answer of the same scene; returns the worst errors.
 
-    Amplitudes within 2 % and phases within 2 deg for the relative pitch of every listed joint and every DOF of
-    every node; quantities under 10 % of the largest of their kind (e.g. the 3e-14 rad sway and yaw of C1,
-    zero by symmetry) are held to 2 % of... the largest instead (an absolute floor). PTO mean powers (quadratic
-    in the motion) within 4 % for PTOs taking over 10 % of the largest PTO power. Energy account closed to 1 %,
-    constraints held to 1e-9 m."""
+    Amplitudes within 2 % and phases within 2 deg for the relative pitch of every listed joint and for every
+    DOF of every node whose amplitude is at least a quarter of the largest of its kind (translations,
+    rotations); the smaller ones (side nodes' sway and yaw in head seas; C1's and S2's sway, roll and yaw are
+    zero by symmetry, 1e-13 in the exact answer) within 0.5 % of that largest amplitude (complex difference).
+    PTO mean powers (quadratic in the motion) within 4 % for PTOs taking over 10 % of the largest PTO power.
+    Energy account closed to 1 %, constraints held to 1e-9 m."""
     data = read_results(path)
     omega = 2 * math.pi / s.waves.period
     sc = load_scene(s, log=None)
     fd = frequency_domain.solve(sc, np.array([omega]))
     t = data["time"]
     mask = steady_window(t, s.waves.period, s.simulation.steady_periods)
-    worst = {"amplitude": 0.0, "phase": 0.0, "power": 0.0}
+    worst = {"amplitude": 0.0, "phase": 0.0, "small": 0.0, "power": 0.0}
 
-    def compare(label: str, y: np.ndarray, exact: complex, floor: float) -> None:
+    def compare(label: str, y: np.ndarray, exact: complex, largest: float) -> None:
         measured, _ = harmonic_fit(t[mask], y[mask], omega)
-        error = abs(measured - exact)
-        assert error <= 0.02 * max(abs(exact), 0.1 * floor), (label, measured, exact)
-        if abs(exact) >= 0.1 * floor:
+        if abs(exact) >= 0.25 * largest:
+            amplitude = abs(abs(measured) / abs(exact) - 1)
             phase = abs(math.degrees(np.angle(measured / exact)))
-            assert phase <= 2.0, (label, phase)
-            worst["amplitude"] = max(worst["amplitude"], abs(abs(measured) / abs(exact) - 1))
-            worst["phase"] = max(worst["phase"], phase)
+            assert amplitude <= 0.02 and phase <= 2.0, (label, measured, exact, amplitude, phase)
+            worst["amplitude"], worst["phase"] = max(worst["amplitude"], amplitude), max(worst["phase"], phase)
+        else:  # small next to the largest response of its kind (e.g. side nodes' sway in head seas)
+            error = abs(measured - exact) / largest
+            assert error <= 0.005, (label, measured, exact, error)
+            worst["small"] = max(worst["small"], error)
 
     name = s.name
     for j in RELATIVE_PITCH[name]:
         exact = fd.joint_rao[j][0, 1] * AMPLITUDE
-        compare(f"{j} relative pitch", data[f"joints/{j}/coordinate"][:, 1], exact, abs(exact))
+        compare(f"{j} relative pitch", data[f"joints/{j}/coordinate"][:, 1], exact, abs(exact))  # always checked
     nodes = [b.name for b in s.hydro_bodies]
     raos = {b: fd.body_rao(b)[0] * AMPLITUDE for b in nodes}
     for kind in (slice(0, 3), slice(3, 6)):
-        floor = max(np.max(np.abs(r[kind])) for r in raos.values())
+        largest = max(np.max(np.abs(r[kind])) for r in raos.values())
         for b in nodes:
             for j in range(6)[kind]:
-                compare(f"{b} dof {j}", data[f"bodies/{b}/displacement"][:, j], complex(raos[b][j]), floor)
+                compare(f"{b} dof {j}", data[f"bodies/{b}/displacement"][:, j], complex(raos[b][j]), largest)
     powers = {p: float(fd.pto_power[p][0]) * AMPLITUDE**2 for p in fd.pto_power}
     largest = max(powers.values())
     for p, exact in powers.items():

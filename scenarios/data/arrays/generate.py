@@ -314,7 +314,7 @@ def main() -> None:
         "array_9n9la.toml": scenario_text(
             "array_9n9la", layout_9n9la(),
             HEADER.format(title="9N9LA", what="array: 9 nodes, 9 link arms, a hexagonal closed loop"),
-            IRREGULAR, SIMULATION.format(duration="300.0"), GRID_9),
+            IRREGULAR, SIMULATION.format(duration="120.0"), GRID_9),
     }
     sweep = SWEEP_GRID if schema_has_sweep_grid() else ""
     for name, text in files.items():
