@@ -202,10 +202,16 @@ def floating_row(n: int):
     return model, pose, np.zeros(model.n)
 
 
+_HEAVE: dict = {}
+
+
 def wave_inputs(t: float, model) -> np.ndarray:
+    """A wave-like heave force on each body, a new value every step (slots looked up once per model)."""
+    if id(model) not in _HEAVE:
+        _HEAVE.clear()
+        _HEAVE[id(model)] = np.array([model.slot_of(f"b{i}", 2) for i in range(model.N)])
     f = np.zeros(model.n)
-    for i in range(model.N):
-        f[model.slot_of(f"b{i}", 2)] = 2e3 * np.sin(2.0 * t - 0.7 * i)
+    f[_HEAVE[id(model)]] = 2e3 * np.sin(2.0 * t - 0.7 * np.arange(model.N))
     return f
 
 
