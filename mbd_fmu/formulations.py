@@ -204,8 +204,9 @@ class Formulation:
 
         The search for the best set (QR with column pivoting of all rows) is made when the kept set's quality
         is below 0.5 (no set can be twice as good otherwise: quality <= 1) and has fallen below 0.6 times the
-        best set's quality at the last search, or 100 steps after it: between searches the best set would have
-        to improve by a fifth for a switch to be missed, and then only until the next search."""
+        best set's quality at the last search, or 1000 steps after it: between searches the best set would have
+        to improve by a fifth for a switch to be missed (impossible when it was above 0.84, as the quality is at
+        most 1), and then only until the next search; a missed switch costs conditioning, not accuracy."""
         m = self.model
         if len(m.kept) == m.m:
             return
@@ -217,7 +218,7 @@ class Formulation:
         else:
             quality = _row_quality(m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac)
         last = self._row_search
-        if quality >= 0.5 or (last is not None and quality >= 0.6 * last[1] and self.steps - last[0] < 100):
+        if quality >= 0.5 or (last is not None and quality >= 0.6 * last[1] and self.steps - last[0] < 1000):
             return
         _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
         c = jf[:, m.sel]
