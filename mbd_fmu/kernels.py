@@ -374,7 +374,16 @@ def world_inertia(plan, RR):
     nb = inertia.shape[0]
     iw = np.empty((nb, 3, 3))
     for b in range(nb):
-        iw[b] = _mm(_mm(RR[b], inertia[b]), RR[b].T)
+        r, i0 = RR[b], inertia[b]
+        for i in range(3):
+            for j in range(i, 3):
+                acc = 0.0
+                for k in range(3):
+                    rik = r[i, k]
+                    if rik != 0.0:
+                        acc += rik * (i0[k, 0] * r[j, 0] + i0[k, 1] * r[j, 1] + i0[k, 2] * r[j, 2])
+                iw[b, i, j] = acc
+                iw[b, j, i] = acc
     return iw
 
 
@@ -501,9 +510,15 @@ def forces(plan, rr, RR, W, iw, inputs, refs):
     nb = fc.shape[0] - 1
     f = fc.copy().reshape(-1)
     for b in range(nb):
-        w = W[b, 3:]
-        if w[0] != 0.0 or w[1] != 0.0 or w[2] != 0.0:
-            f[6 * b + 3:6 * b + 6] -= _cross(w, _mv(iw[b], w))
+        w0, w1, w2 = W[b, 3], W[b, 4], W[b, 5]
+        if w0 != 0.0 or w1 != 0.0 or w2 != 0.0:
+            i = iw[b]
+            h0 = i[0, 0] * w0 + i[0, 1] * w1 + i[0, 2] * w2
+            h1 = i[1, 0] * w0 + i[1, 1] * w1 + i[1, 2] * w2
+            h2 = i[2, 0] * w0 + i[2, 1] * w1 + i[2, 2] * w2
+            f[6 * b + 3] -= w1 * h2 - w2 * h1
+            f[6 * b + 4] -= w2 * h0 - w0 * h2
+            f[6 * b + 5] -= w0 * h1 - w1 * h0
     element_forces(plan, rr, RR, W, refs, f)
     sel = plan[0]
     out = np.empty(sel.shape[0])
@@ -590,6 +605,68 @@ def tangents(plan, rr, RR, W, iw, acc, lam_kept, refs):
 
 
 @njit
+def _put(jac, row, colmap, slot, value):
+    g = colmap[slot]
+    if g >= 0:
+        jac[row, g] = value
+
+
+@njit
+def _point_perp(rr, RR, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac):
+    """Value and Jacobian rows of a point (kind 0) or perp (kind 1) primitive in scalar arithmetic (the same
+    expressions as :func:`constraints`' general branch)."""
+    ri, rj = RR[bi], RR[bj]
+    a0 = ri[0, 0] * vec[0, 0] + ri[0, 1] * vec[0, 1] + ri[0, 2] * vec[0, 2]
+    a1 = ri[1, 0] * vec[0, 0] + ri[1, 1] * vec[0, 1] + ri[1, 2] * vec[0, 2]
+    a2 = ri[2, 0] * vec[0, 0] + ri[2, 1] * vec[0, 1] + ri[2, 2] * vec[0, 2]
+    b0 = rj[0, 0] * vec[1, 0] + rj[0, 1] * vec[1, 1] + rj[0, 2] * vec[1, 2]
+    b1 = rj[1, 0] * vec[1, 0] + rj[1, 1] * vec[1, 1] + rj[1, 2] * vec[1, 2]
+    b2 = rj[2, 0] * vec[1, 0] + rj[2, 1] * vec[1, 1] + rj[2, 2] * vec[1, 2]
+    si, sj = 6 * bi, 6 * bj
+    if kind == 1:  # u . w = c0, u = a, w = b
+        row = kept[0]
+        if row < 0:
+            return
+        phi[row] = a0 * b0 + a1 * b1 + a2 * b2 - c0
+        if want_jac:
+            x0, x1, x2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+            _put(jac, row, colmap, si + 3, x0)
+            _put(jac, row, colmap, si + 4, x1)
+            _put(jac, row, colmap, si + 5, x2)
+            _put(jac, row, colmap, sj + 3, -x0)
+            _put(jac, row, colmap, sj + 4, -x1)
+            _put(jac, row, colmap, sj + 5, -x2)
+        return
+    a = (a0, a1, a2)
+    b = (b0, b1, b2)
+    for c in range(3):
+        row = kept[c]
+        if row < 0:
+            continue
+        phi[row] = rr[bi, c] + a[c] - rr[bj, c] - b[c]
+        if not want_jac:
+            continue
+        _put(jac, row, colmap, si + c, 1.0)
+        _put(jac, row, colmap, sj + c, -1.0)
+        # -S(a_i) row c on body i's rotations, S(a_j) row c on body j's: S(v) rows (0,-v2,v1), (v2,0,-v0), (-v1,v0,0)
+        if c == 0:
+            _put(jac, row, colmap, si + 4, a2)
+            _put(jac, row, colmap, si + 5, -a1)
+            _put(jac, row, colmap, sj + 4, -b2)
+            _put(jac, row, colmap, sj + 5, b1)
+        elif c == 1:
+            _put(jac, row, colmap, si + 3, -a2)
+            _put(jac, row, colmap, si + 5, a0)
+            _put(jac, row, colmap, sj + 3, b2)
+            _put(jac, row, colmap, sj + 5, -b0)
+        else:
+            _put(jac, row, colmap, si + 3, a1)
+            _put(jac, row, colmap, si + 4, -a0)
+            _put(jac, row, colmap, sj + 3, -b1)
+            _put(jac, row, colmap, sj + 4, b0)
+
+
+@njit
 def constraints(plan, rr, RR, W, want_jac, want_gamma):
     """Kept rows: Phi (r,), Jacobian (r, n) on generalised slots, gamma (r,) (mbd_fmu.constraints)."""
     colmap = plan[1]
@@ -603,6 +680,10 @@ def constraints(plan, rr, RR, W, want_jac, want_gamma):
     for p in range(kinds.shape[0]):
         kind = kinds[p]
         if kept[p, 0] < 0 and kept[p, 1] < 0 and kept[p, 2] < 0:
+            continue
+        if kind <= 1 and not want_gamma:  # the Newton residual's case: scalars only, no temporary arrays
+            _point_perp(rr, RR, bodies[p, 0], bodies[p, 1], vecs[p], c0[p], kind, kept[p], colmap, phi, jac,
+                        want_jac)
             continue
         bi, bj = bodies[p, 0], bodies[p, 1]
         val = np.zeros(3)
