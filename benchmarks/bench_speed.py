@@ -309,6 +309,19 @@ def main() -> None:
         print(lines[-1], flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
+    from benchmarks.bench_multibody import chain
+
+    lines += ["", "## 2b. The issue's 40-body case: bench_multibody's hanging chain of 40 links on revolute joints, "
+              "h = 1 ms, no input; us per step, wall and CPU",
+              f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'index1':>10}{'cpu':>8}{'nullspace':>10}{'cpu':>8}"]
+    for n in (20, 40):
+        k = 10 if args.quick else 60
+        row = [best(lambda f=f, n=n, k=k: (run_ours(lambda: (*chain(n), np.zeros(6 * n)), f, H, k)[0], None),
+                    min(repeats, 3))[0] for f in ("index3", "index1", "nullspace")]
+        lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
+        print(lines[-1], flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
     duration = 10.0 if args.quick else 40.0
     lines += ["", f"## 3. Hinge barge, default settings, {duration:g} s through fmpy: real-time factor of the stepping "
               "loop and steady errors against the frequency-domain answer",

@@ -607,14 +607,8 @@ def _tableau_arrays(tab) -> tuple[np.ndarray, np.ndarray]:
     return _TABLEAU_ARRAYS[id(tab)]
 
 
-def _saddle_point(s: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """``[[S, C^T], [C, 0]]``."""
-    n, r = s.shape[0], c.shape[0]
-    out = np.zeros((n + r, n + r))
-    out[:n, :n] = s
-    out[:n, n:] = c.T
-    out[n:, :n] = c
-    return out
+# ``[[S, C^T], [C, 0]]``: the kernels' function, called as plain Python on this path
+_saddle_point = getattr(kernels.saddle, "py_func", kernels.saddle)
 
 
 def _row_quality(rows: np.ndarray) -> float:
