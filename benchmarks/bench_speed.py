@@ -28,6 +28,10 @@ from __future__ import annotations
 
 import argparse
 import os
+
+# One BLAS thread: on a loaded 2-core machine OpenBLAS helper threads spin and make the dense solves of the
+# Python and null-space paths slower and noisier (docs/multibody.md); set before numpy is imported.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import platform
 import subprocess
 import sys
@@ -264,7 +268,8 @@ def main() -> None:
     lines = [f"# command: python benchmarks/bench_speed.py {' '.join(sys.argv[1:])}".rstrip(),
              f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
              f"{platform.python_version()}, numpy {np.__version__}; load average at start "
-             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}"]
+             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}; OPENBLAS_NUM_THREADS="
+             f"{os.environ.get('OPENBLAS_NUM_THREADS')}"]
     try:
         import exudyn
         import numba
