@@ -4,7 +4,8 @@ An FMU runs its Python sources from a fresh temporary folder every time it is in
 own cache locators key the cache on the source file's *directory*, so every run would recompile
 the kernels (several seconds). The locator below keys it on the source file's *content* instead,
 in ``$WEC_COSIM_CACHE/numba`` (default ``~/.cache/wec-cosim/numba``): the same sources, wherever they
-are, load the compiled machine code in tens of milliseconds. If numba is not installed, or the cache
+are, load the compiled machine code in tens of milliseconds. Caches of other source versions unused for
+30 days are removed. If numba is not installed, or the cache
 folder cannot be written, :data:`AVAILABLE` tells the callers (the model then runs on its Python path,
 or numba compiles in memory).
 """
@@ -54,9 +55,27 @@ try:
             try:
                 locator = cls(py_file)
                 locator.ensure_cache_path()
+                _prune(Path(locator._path))
             except OSError:
                 return None
             return locator
+
+    _PRUNED: set = set()
+
+    def _prune(current: Path, days: float = 30.0) -> None:
+        """Remove other versions' caches (same module, other source content) unused for ``days`` (about 15 MB
+        each), once per process."""
+        if current in _PRUNED:
+            return
+        _PRUNED.add(current)
+        os.utime(current)  # in use: the age below is the time since a process last used a version
+        import shutil
+        import time
+
+        stem = current.name.rsplit("-", 1)[0]
+        for other in current.parent.glob(f"{stem}-*"):
+            if other != current and other.is_dir() and time.time() - other.stat().st_mtime > days * 86400:
+                shutil.rmtree(other, ignore_errors=True)
 
     if _ContentLocator.__name__ not in {c.__name__ for c in caching.CacheImpl._locator_classes}:
         caching.CacheImpl._locator_classes.insert(0, _ContentLocator)
