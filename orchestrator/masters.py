@@ -93,6 +93,7 @@ class MasterSettings:
     relaxation: float = 0.5
     reuse: int = 4
     divergence_limit: float = 1e8
+    energy_scale: float = 1.0  # J: the scene's own energy scale (weight of its bodies times a length)
 
 
 @dataclass
@@ -257,14 +258,31 @@ class Master:
             u[pos] = outputs[src][out]
         return u
 
+    def _limits(self, name: str, values: np.ndarray) -> np.ndarray:
+        """Divergence limit of each output of ``name``, relative to the scene's own scales: ``divergence_limit``
+        times the larger of 1 and the output's first value (static loads, large bodies), and for energies
+        (``energy.*``) also the scene's energy scale (``energy_scale``: energies start at zero)."""
+        limits = getattr(self, "_divergence_limits", None)
+        if limits is None:
+            limits = self._divergence_limits = {}
+        if name not in limits:
+            scale = np.maximum(1.0, np.where(np.isfinite(values), np.abs(values), 1.0))
+            energy = np.array([v.startswith("energy.") for v in self.output_names[name]], dtype=bool)
+            if energy.any():
+                scale[energy] = max(float(scale[energy].max()), self.settings.energy_scale)
+            limits[name] = self.settings.divergence_limit * scale
+        return limits[name]
+
     def _read(self, name: str) -> np.ndarray:
         values = self.components[name].get_reals(self.output_ports[name])
-        # One reduction catches NaN (comparison false), infinities and values beyond the limit.
-        if values.size and not np.abs(values).max() <= self.settings.divergence_limit:
-            bad = ~np.isfinite(values) | (np.abs(values) > self.settings.divergence_limit)
-            var = self.output_names[name][int(np.argmax(bad))]
-            what = "is not finite" if not np.isfinite(values[bad][0]) else (
-                f"exceeds {self.settings.divergence_limit:g} in magnitude")
+        limit = self._limits(name, values)
+        # One comparison catches NaN (comparison false), infinities and values beyond the limit.
+        if values.size and not np.all(np.abs(values) <= limit):
+            bad = ~(np.abs(values) <= limit)
+            k = int(np.argmax(bad))
+            var = self.output_names[name][k]
+            what = "is not finite" if not np.isfinite(values[k]) else (
+                f"exceeds {limit[k]:g} in magnitude (divergence_limit times its scale in this scene)")
             raise MasterError(
                 f"{name}: output {var} {what} at t = {self.time:g} s; the coupled system diverged or was "
                 "given invalid inputs (try a smaller step, or check the scenario)")

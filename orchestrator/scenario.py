@@ -98,7 +98,9 @@ class SimulationSection:
     iqn_reuse: int = option(4, check=non_negative, doc="IQN-ILS: previous steps whose secant data are reused")
     divergence_limit: float = option(
         1.0e8, check=positive,
-        doc="an exchanged or recorded value larger than this (SI units) stops the run as diverged")
+        doc="an exchanged or recorded value larger than this times its scale in the scene stops the run as "
+            "diverged; the scale is the larger of 1 and the value at the start (SI units), for energies also the "
+            "bodies' weight and static loads times 1 m")
     adaptive: AdaptiveSection = field(default_factory=AdaptiveSection,
                                       metadata={"doc": "energy-based adaptive step"})
     output: str = option("", doc="results file (HDF5); default `results/<name>.h5` in the working directory")

@@ -178,11 +178,21 @@ class RunPlan:
         return out
 
 
-def master_settings(scenario: Scenario) -> MasterSettings:
+def master_settings(scenario: Scenario, scene: Scene | None = None) -> MasterSettings:
     sim = scenario.simulation
     return MasterSettings(extrapolation=sim.extrapolation, tolerance=sim.tolerance,
                           max_iterations=sim.max_iterations, relaxation=sim.relaxation, reuse=sim.iqn_reuse,
-                          divergence_limit=sim.divergence_limit)
+                          divergence_limit=sim.divergence_limit,
+                          energy_scale=energy_scale(scene) if scene is not None else 1.0)
+
+
+def energy_scale(scene: Scene) -> float:
+    """The scene's energy scale (J): its bodies' weight and static loads times a metre (at least 1 J)."""
+    spec = scene.mbd_spec()
+    g = float(np.linalg.norm(spec.get("gravity", (0.0, 0.0, 0.0)))) or 9.81
+    loads = sum(abs(float(b["mass"])) * g + float(np.linalg.norm(b.get("static_load", [0.0] * 6)[:3]))
+                for b in spec["bodies"])
+    return max(1.0, loads)
 
 
 def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None) -> RunPlan:
@@ -202,7 +212,7 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
         coupling = scene_coupling(scene, sim.added_mass)
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
-        master = make_master(kind, components, coupling.connections, master_settings(scenario),
+        master = make_master(kind, components, coupling.connections, master_settings(scenario, scene),
                              observe, coupling.added_mass)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
