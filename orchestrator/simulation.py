@@ -277,21 +277,29 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     sim = scenario.simulation
     old = read_results(results)
     rows = saved["rows"]
+    missing = [name for name in plan.recorder.series if name not in old or len(old[name]) < rows]
+    if missing:
+        plan.master.terminate()
+        raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
+                            "run the simulation again")
+    # Restore first: a checkpoint that cannot be used leaves the results file as it was.
+    try:
+        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
+        plan.master.restore(saved["checkpoint"])
+        plan.controller.set_state(saved["controller"])
+    except BaseException as exc:
+        plan.master.terminate()
+        if isinstance(exc, (MasterError, WecCosimError)):
+            raise WecCosimError(f"{checkpoint_path(results)}: the checkpoint could not be restored: {exc}; "
+                                f"{results} is unchanged") from None
+        raise
     writer = ResultsWriter(results.with_name(results.name + ".resume.part"), plan.recorder.series, {
         k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds)
     writer.append_block({name: old[name][:rows] for name in plan.recorder.series})
     writer.flush()
     os.replace(writer.path, results)
     writer.path = results
-    try:
-        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
-        plan.radiation = radiation_report(plan)
-        plan.master.restore(saved["checkpoint"])
-        plan.controller.set_state(saved["controller"])
-    except BaseException:
-        plan.master.terminate()
-        writer.close(status="failed: could not restore the checkpoint")
-        raise
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
