@@ -72,7 +72,10 @@ def read_checkpoint(path: str | Path) -> dict[str, Any]:
         if not isinstance(memory, dict) or not {"master", "controller"} <= set(memory):
             raise state_codec.StateFormatError("its master memory lacks the master's or the step controller's state")
         for name, blob in states.items():
-            state_codec.read_layout(blob)  # checked here, named after the component, before any FMU sees it
+            try:
+                state_codec.read_layout(blob)  # checked here, before any FMU sees it
+            except state_codec.StateFormatError as exc:
+                raise state_codec.StateFormatError(f"the state of component {name!r}: {exc}") from None
     except state_codec.StateFormatError as exc:
         raise WecCosimError(f"checkpoint {path} cannot be used: {exc}; run the simulation again") from None
     except (OSError, KeyError, TypeError, ValueError) as exc:

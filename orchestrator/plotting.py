@@ -31,6 +31,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if "parameter" in f.attrs and "values" in f:
+                raise WecCosimError(f"plot: {path} is a sweep file (wec-cosim sweep); it has no figure yet: read "
+                                    "ptos/<name>/mean_power against values and periods with h5py")
             if "omega" in f:
                 return [plot_rao(f, out / f"{path.stem}_rao.png")]
             if "periods" in f:
@@ -39,6 +42,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
                 return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
+    except (KeyError, ValueError, IndexError) as exc:
+        raise WecCosimError(f"plot: {path} lacks what its figure needs ({type(exc).__name__}: {exc}); is it a "
+                            "complete wec-cosim file?") from None
     raise WecCosimError(f"plot: {path} is neither a results file (/time), a RAO file (/omega) nor a steady-state "
                         "file (/periods)")
 

@@ -115,6 +115,27 @@ class ResultsWriter:
                 f.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
 
 
+    def fail(self, status: str, wall_time: float | None = None, attrs: dict[str, Any] | None = None) -> bool:
+        """After a write error (disk full): drop the unwritten rows, close, record ``status`` if the file
+        system still allows it. Returns whether the status was recorded; never raises."""
+        self.rows = 0
+        try:
+            if self.file.id.valid:
+                self.file.close()
+        except Exception:  # noqa: BLE001 - the file system refused; the rows on disk stay readable
+            pass
+        try:
+            self.close(status=status, wall_time=wall_time, attrs=attrs)
+            return True
+        except Exception:  # noqa: BLE001
+            try:
+                with h5py.File(self.path, "a") as f:
+                    f.attrs["status"] = status
+                return True
+            except Exception:  # noqa: BLE001
+                return False
+
+
 def read_results(path: str | Path) -> dict[str, Any]:
     """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded)."""
     out: dict[str, Any] = {}

@@ -447,4 +447,26 @@ def _sorted_dofs(b: BodySection) -> list[str]:
 
 def load_scene(scenario: Scenario, *, refresh: bool = False, log=print) -> Scene:
     hdb, path = load_database(scenario, refresh=refresh, log=log)
+    check_wave_range(scenario, hdb, path)
     return Scene(scenario, hdb, path)
+
+
+def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
+    """Regular wave periods (waves, steady, sweep) and an irregular sea's peak inside the database's
+    frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    w, f = scenario.waves, scenario.file
+    lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
+    periods = []
+    if w.kind == "regular":
+        periods.append(("waves.period", w.period))
+    periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
+    periods += [(f"sweep.periods[{i}]", p) for i, p in enumerate(scenario.sweep.periods)]
+    if w.kind == "irregular" and w.tp > 0:
+        periods.append(("waves.tp", w.tp))
+    for key, period in periods:
+        omega = 2 * np.pi / period
+        if not lo <= omega <= hi:
+            raise ScenarioError(
+                f"{f}: {key} = {period:g} s ({omega:.4g} rad/s) is outside the hydrodynamic database's frequency range "
+                f"{lo:.4g}..{hi:.4g} rad/s (periods {2 * np.pi / hi:.4g}..{2 * np.pi / lo:.4g} s, {path}); choose a "
+                "period in that range or extend hydro.omega")

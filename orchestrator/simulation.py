@@ -21,6 +21,7 @@ from .components import FmuComponent, InProcessComponent
 from .control.loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .errors import MasterError, WecCosimError
+from .input_checks import check_output
 from .masters import EnergyStepController, FixedStepController, Master, MasterSettings, StepController, make_master
 from .monolithic import MonolithicMaster
 from .progress import ProgressBar
@@ -139,6 +140,7 @@ class RunResult:
     comparisons: list[Comparison] = field(default_factory=list)
     statistics: dict = field(default_factory=dict)
     radiation: dict = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
     @property
     def real_time_factor(self) -> float:
@@ -234,20 +236,30 @@ def run_scenario(
     progress: bool = True,
 ) -> RunResult:
     """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
-    plan = prepare_run(scenario, in_process=in_process, log=log)
     sim = scenario.simulation
-    path = Path(output or sim.output or Path("results") / f"{scenario.name}.h5")
-    writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+    key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
+                                                                        f"{scenario.name!r})")
+    path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
+    plan = prepare_run(scenario, in_process=in_process, log=log)
+    try:
+        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+    except BaseException:
+        plan.master.terminate()
+        raise
     state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
     try:
         if plan.control:
+            c = scenario.control
+            if log is not None:
+                log(f"waiting up to {c.connect_timeout:g} s (control.connect_timeout) for a controller on run "
+                    f"{plan.control.settings.run_id!r} ...")
             plan.control.start()
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
         plan.radiation = radiation_report(plan)
-    except BaseException:
+    except BaseException as exc:
         plan.master.terminate()
         extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
-        writer.close(status="failed: initialisation", attrs=extra)
+        writer.close(status=f"failed: initialisation: {exc}", attrs=extra)
         raise
     return _execute(plan, writer, state, progress, observe_start=True)
 
@@ -343,6 +355,14 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         writer.close(status="interrupted", wall_time=time.perf_counter() - start,
                      attrs=_final_attrs(plan, "failed"))
         raise
+    except OSError as exc:  # the results or checkpoint file could not be written (disk full, file-size limit)
+        recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
+                               wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
+        raise WecCosimError(
+            f"writing {writer.path} failed at t = {master.time:g} s: {exc.strerror or exc}; the {writer.written} rows "
+            f"written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
+            "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
+            "again") from None
     finally:
         master.terminate()
         bar.close()
@@ -352,8 +372,32 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
                        radiation=plan.radiation)
     if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
-        result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
+        needed = scenario.ramp_time + sim.steady_periods * scenario.waves.period
+        if sim.duration >= needed:
+            result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
+        else:
+            result.notes.append(
+                f"no comparison with the exact steady state: the run ({sim.duration:g} s) is shorter than the ramp "
+                f"and simulation.steady_periods = {sim.steady_periods:g} wave periods ({needed:g} s)")
+    if control:
+        result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
     return result
+
+
+def control_notes(stats: dict | None, fallback: str) -> list[str]:
+    """Summary lines for the controller's faults, fallbacks and refused controllers."""
+    if not stats:
+        return []
+    faults = {k: v for k, v in stats.get("faults", {}).items() if v}
+    periods, fell = stats.get("periods", 0), stats.get("fallback_periods", 0)
+    out = [f"controller: {periods - fell} of {periods} control periods commanded by the controller"
+           + (f", {fell} on the fallback {fallback!r}" if fell else "")
+           + (" (faults: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in faults.items()) + ")" if faults
+              else "")]
+    if stats.get("refused_controllers"):
+        out.append(f"controller: {stats['refused_controllers']} other controller(s) refused on this run id "
+                   f"({stats.get('refused_commands', 0)} of their commands ignored)")
+    return out
 
 
 def _final_attrs(plan: RunPlan, state: str) -> dict:
@@ -462,6 +506,7 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
+    lines += result.notes
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")

@@ -56,8 +56,8 @@ class FaultyController(Controller):
 def rogue(run_id: str, endpoint: str) -> None:
     """Floods another run's command key with NaN frames (it must not affect our run)."""
     session = open_controller([endpoint])
-    pub = session.declare_publisher(protocol.key(run_id, "commands"))
-    token = session.liveliness().declare_token(protocol.key(run_id, "controller"))
+    pub = session.declare_publisher(protocol.key(run_id, "commands/rawpeer"))
+    token = session.liveliness().declare_token(protocol.key(run_id, "controller/rawpeer"))
     for k in range(100000):
         pub.put(protocol.encode(protocol.COMMANDS, k, 0.0, [float("nan")] * 3))
         time.sleep(0.001)

@@ -92,6 +92,9 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="law parameter, e.g. --set damping=1e5")
     p.add_argument("--max-wall-time", type=float, default=None, help="give up after this many seconds")
+    p.add_argument("--timeout", type=float, default=60.0,
+                   help="end with an error when the master is silent this many seconds (default 60; a killed "
+                        "master is noticed sooner through its liveliness token)")
     return p
 
 
@@ -104,7 +107,7 @@ def run_example(args: argparse.Namespace) -> int:
     controller = Controller(args.run, law, endpoints=args.connect, config_file=args.config)
     print(f"controller {args.name!r} attached to run {args.run!r}: "
           f"{len(controller.ptos)} PTO(s), {len(controller.names)} measurements", flush=True)
-    controller.run(args.max_wall_time)
+    controller.run(args.max_wall_time, args.timeout)
     print(f"run {args.run!r} ended after {controller.steps} control steps", flush=True)
     return 0
 

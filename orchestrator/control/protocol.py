@@ -5,9 +5,15 @@ Key expressions, all under ``wec/<run_id>/``:
 * ``manifest`` - queryable served by the master: JSON (UTF-8) describing the run, every measured
   signal and every command, in frame order, with units and limits;
 * ``measurements`` - published by the master at every control instant;
-* ``commands`` - published by the controller, one frame per measurement frame it answers;
-* ``status`` - published by the master: JSON ``{"state": "running" | "finished" | "failed"}``;
-* ``controller`` - liveliness token declared by the controller while it is connected.
+* ``commands/<id>`` - published by the controller ``<id>`` (a random token of its own), one frame
+  per measurement frame it answers;
+* ``status`` - published by the master: JSON ``{"state": "running" | "finished" | "failed",
+  "controller": <id of the controller that drives the run, or null>}``;
+* ``controller/<id>`` - liveliness token declared by a controller while it is connected. The first
+  controller to declare one drives the run; while it is connected any other is refused: the master
+  ignores its commands, counts it (``refused_controllers``) and names the owner on ``status``, and
+  the refused controller ends with an error;
+* ``master`` - liveliness token of the master: a controller ends (with an error) when it disappears.
 
 Frame (little-endian), 24-byte header then values::
 
