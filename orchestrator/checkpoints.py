@@ -37,6 +37,20 @@ def write_checkpoint(path: str | Path, checkpoint: dict, controller_state: dict,
     """Write atomically: the old checkpoint stays valid until the new one is complete."""
     path = Path(path)
     tmp = path.with_name(path.name + f".{os.getpid()}.part")
+    try:
+        _write(tmp, checkpoint, controller_state, time=time, rows=rows, steps=steps)
+    except RuntimeError as exc:  # h5py's report of a refused write (disk full)
+        from .results import write_error
+
+        tmp.unlink(missing_ok=True)
+        raise write_error(exc, tmp) from None
+    except OSError:
+        tmp.unlink(missing_ok=True)
+        raise
+    os.replace(tmp, path)
+
+
+def _write(tmp: Path, checkpoint: dict, controller_state: dict, *, time: float, rows: int, steps: int) -> None:
     with h5py.File(tmp, "w") as f:
         for name, blob in checkpoint["states"].items():
             f.create_dataset(f"states/{name}", data=np.void(bytes(blob)))
@@ -47,7 +61,6 @@ def write_checkpoint(path: str | Path, checkpoint: dict, controller_state: dict,
         f.attrs["time"] = time
         f.attrs["rows"] = rows
         f.attrs["steps"] = steps
-    os.replace(tmp, path)
 
 
 def read_checkpoint(path: str | Path) -> dict[str, Any]:

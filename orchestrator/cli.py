@@ -20,6 +20,7 @@ import argparse
 import math
 import shutil
 import sys
+import typing
 from pathlib import Path
 
 import h5py
@@ -52,6 +53,8 @@ def _override_duration(scenario, duration: float) -> None:  # noqa: ANN001 - Sce
 def _out(value: str, kind: str = "hdf5") -> Path:
     from .input_checks import check_output
 
+    if not value:
+        raise WecCosimError("--out: an empty path is not usable; give a file name")
     return check_output(Path(value), "--out", kind=kind)
 
 
@@ -61,6 +64,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario(args.scenario)
     if args.duration is not None:
         _override_duration(scenario, args.duration)
+    if args.out is not None:
+        _out(args.out)
     result = run_scenario(scenario, args.out, in_process=args.in_process, progress=not args.quiet)
     print(format_summary(result))
     return 0
@@ -213,9 +218,16 @@ def _positive_int(text: str) -> int:
     return value
 
 
+class _Parser(argparse.ArgumentParser):
+    """Option errors as one paragraph, like every other error (exit status 2)."""
+
+    def error(self, message: str) -> typing.NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
-    sub = p.add_subparsers(dest="command", required=True)
+    p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("run", help="run a time-domain co-simulation")
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")

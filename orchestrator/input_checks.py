@@ -209,6 +209,35 @@ def check_files(s) -> None:  # noqa: ANN001
                                 "computed hydrodynamic databases")
 
 
+ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws)/(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.-]+):(\d{1,5})$")
+
+
+def check_control(s) -> None:  # noqa: ANN001
+    """Zenoh endpoints and configuration file of a controlled run."""
+    c, f = s.control, str(s.file)
+    if c.zenoh_config:
+        path = s.resolve(c.zenoh_config)
+        if not path.is_file():
+            raise ScenarioError(f"{f}: control.zenoh_config: file {path} does not exist")
+        try:
+            import zenoh
+
+            zenoh.Config.from_file(str(path))
+        except Exception as exc:  # noqa: BLE001 - zenoh raises its own error type for any bad file
+            text = " ".join(str(exc).split())[:300]
+            raise ScenarioError(f"{f}: control.zenoh_config: {path} is not a valid zenoh configuration ({text})") \
+                from None
+        return
+    if not c.endpoints:
+        raise ScenarioError(f"{f}: control.endpoints is empty; give at least one endpoint such as "
+                            "'tcp/127.0.0.1:7447' (or remove the key for that default)")
+    for i, endpoint in enumerate(c.endpoints):
+        m = ENDPOINT.match(endpoint)
+        if not m or not 1 <= int(m.group(3)) <= 65535:
+            raise ScenarioError(f"{f}: control.endpoints[{i}]: {endpoint!r} is not a zenoh endpoint "
+                                "'<protocol>/<host>:<port>' (e.g. 'tcp/127.0.0.1:7447', port 1-65535)")
+
+
 # ---------------------------------------------------------------------------------------- the outputs
 def check_output(path: Path, key: str, *, kind: str = "hdf5") -> Path:
     """Refuse, before any work, an output path that cannot be written or would destroy a foreign file.

@@ -718,8 +718,7 @@ def _check_control(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: [control] drives the PTO inputs of the multibody FMU at a fixed period: it needs a co-simulation "
             "master (not 'monolithic'), fixed steps (no [simulation.adaptive]) and added_mass = 'mass_matrix'")
-    if c.zenoh_config and not s.resolve(c.zenoh_config).is_file():
-        raise ScenarioError(f"{f}: control.zenoh_config: file {s.resolve(c.zenoh_config)} does not exist")
+    input_checks.check_control(s)
 
 
 def _check_waves(s: Scenario) -> None:

@@ -7,6 +7,7 @@ import math
 import os
 import platform
 import time
+import typing
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -356,19 +357,16 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
                      attrs=_final_attrs(plan, "failed"))
         raise
     except OSError as exc:  # the results or checkpoint file could not be written (disk full, file-size limit)
-        recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
-                               wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
-        raise WecCosimError(
-            f"writing {writer.path} failed at t = {master.time:g} s: {exc.strerror or exc}; the {writer.written} rows "
-            f"written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
-            "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
-            "again") from None
+        _write_failure(plan, writer, exc, start)
     finally:
         master.terminate()
         bar.close()
     wall = time.perf_counter() - start
     attrs = _final_attrs(plan, "finished")
-    writer.close(status="completed", wall_time=wall, attrs=attrs)
+    try:
+        writer.close(status="completed", wall_time=wall, attrs=attrs)
+    except OSError as exc:  # the last rows could not be flushed
+        _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
                        radiation=plan.radiation)
     if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
@@ -398,6 +396,20 @@ def control_notes(stats: dict | None, fallback: str) -> list[str]:
         out.append(f"controller: {stats['refused_controllers']} other controller(s) refused on this run id "
                    f"({stats.get('refused_commands', 0)} of their commands ignored)")
     return out
+
+
+def _write_failure(plan: RunPlan, writer: ResultsWriter, exc: OSError, start: float) -> typing.NoReturn:
+    """Record ``failed`` if the file system still allows it and raise one clear error (rows on disk kept)."""
+    attrs = {"statistics": _run_statistics(plan), "radiation_model": plan.radiation}
+    if plan.control and plan.control.bridge.session is not None:
+        attrs["control_statistics"] = plan.control.close("failed")
+    recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
+                           wall_time=time.perf_counter() - start, attrs=attrs)
+    raise WecCosimError(
+        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; the {writer.written} "
+        f"rows written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
+        "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
+        "again") from None
 
 
 def _final_attrs(plan: RunPlan, state: str) -> dict:
