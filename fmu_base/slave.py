@@ -300,6 +300,10 @@ class VectorSlave(Fmi2Slave):
     def _decode_state(self, data: bytes) -> dict[str, Any]:
         """A serialised state decoded onto a copy of the live model (the live one is untouched if the
         data do not fit it)."""
+        saved_by = state_codec.peek(data, "slave")
+        if saved_by != type(self).__name__:  # refused before any of its objects is read
+            raise state_codec.StateFormatError(
+                f"the state is not a state of this FMU ({type(self).__name__}; got {saved_by!r})")
         template = {"slave": type(self).__name__, "arrays": {},
                     "attributes": {k: copy.deepcopy(getattr(self, k)) for k in self.state_attributes}}
         state = state_codec.decode(data, template)

@@ -34,15 +34,27 @@ list), or an object tagged by its ``"$"`` key:
 Reading (:func:`decode`) applies the tree onto a *template*, the live object graph the FMU or
 master built from its own specification: an object node is written into the live instance of
 the same class (its attributes replaced, attributes the saved instance did not have removed), so
-the result equals a deep copy of the saved graph. An instance absent from the template is created
-(``cls.__new__``, no ``__init__``) only for classes of this project's packages, numpy and scipy,
-looked up by name without importing anything new. Functions are never read from the file.
+the result equals a deep copy of the saved graph. The file never chooses what gets built: an
+instance absent from the template is created (``cls.__new__``, no ``__init__``) only if its class
+is on the allow-list of that read, which is
+
+* the classes of the objects in the template itself (the model's own classes), and
+* :data:`RESTORABLE`, the project's classes that a model creates as it runs (so a freshly built
+  model, the template of a resume, lacks them).
+
+Names are matched against these classes only; nothing is looked up in the modules, imported or
+called on the file's say-so, and attribute names of the ``__dunder__`` form are refused. Any other
+class named by a file (``subprocess:Popen``, ``os:_wrap_close``, numpy's ``DataSource`` whose
+finaliser deletes a folder...) is refused with :class:`StateFormatError`. Functions are never read
+from the file.
 
 A formulation or physics object stays serialisable as long as its state is held in attributes of
 those kinds: numpy arrays (numeric dtypes), numbers, strings, None, lists/tuples/dicts/sets of
 them, and instances of classes defined in the project (or numpy/scipy classes with a ``__dict__``).
 Anything else (an open file, a lock, a C object without ``__dict__``) makes :func:`encode` raise
-:class:`StateFormatError` naming the attribute path.
+:class:`StateFormatError` naming the attribute path. A class whose instances a model creates
+after it is built (a cache filled as it runs) must be added to :data:`RESTORABLE`, or a resumed
+run refuses its own state ("not a class of this model").
 """
 
 from __future__ import annotations
@@ -55,13 +67,20 @@ import types
 from typing import Any
 
 import numpy as np
+from scipy.sparse import csc_matrix
 
 MAGIC = b"WECSTATE"
 VERSION = 1
 _HEAD = struct.Struct("<8sIIQ")
 _DTYPES = {"<f8", "<f4", "<i8", "<i4", "<i2", "|i1", "<u8", "<u4", "<u2", "|u1", "|b1", "<c16", "<c8"}
 _PROJECT_PACKAGES = ("hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "fmu_base", "orchestrator")
-_ALLOWED_PACKAGES = _PROJECT_PACKAGES + ("numpy", "scipy", "pythonfmu")
+# The project's state-holding classes that a model creates while it runs (absent from a freshly built
+# model): the only classes a state may instantiate besides those of the template's own objects.
+RESTORABLE = (
+    "mbd_fmu.formulations:Factorized",  # the Newton iteration matrix, factorised and kept between steps
+    "mbd_fmu.linear_system:ZeroOrderHoldStepper",  # exact discretisations, cached per step size and PTO law
+    f"{csc_matrix.__module__}:{csc_matrix.__qualname__}",  # the matrix a sparse Factorized is rebuilt from
+)
 _CODE = (types.FunctionType, types.BuiltinFunctionType, types.MethodType, types.BuiltinMethodType,
          types.ModuleType, type, np.ufunc, staticmethod, classmethod, property)
 _MISSING = object()
@@ -198,7 +217,7 @@ def decode(data: bytes, template: Any = None) -> Any:
     Raises :class:`StateFormatError` for anything that is not a valid state of this format.
     """
     header, arrays = read_layout(data)
-    dec = _Decoder(arrays)
+    dec = _Decoder(arrays, allowed_classes(template))
     try:
         return dec.node(header["tree"], template, "state")
     except StateFormatError:
@@ -248,9 +267,55 @@ def read_layout(data: bytes) -> tuple[dict, list[np.ndarray]]:
     return header, arrays
 
 
+def peek(data: bytes, key: str) -> Any:
+    """The value of a top-level entry ``key`` of a state that is a dict, if it is a plain JSON value
+    (None otherwise): lets a reader refuse a foreign state before decoding its objects."""
+    header, _ = read_layout(data)
+    tree = header["tree"]
+    if isinstance(tree, dict) and tree.get("$") == "dict" and isinstance(tree.get("items"), list):
+        for pair in tree["items"]:
+            if isinstance(pair, list) and len(pair) == 2 and pair[0] == key:
+                value = pair[1]
+                return value if value is None or isinstance(value, (bool, int, float, str)) else None
+    return None
+
+
+def allowed_classes(template: Any) -> dict[str, type]:
+    """The classes a read onto ``template`` may instantiate: those of the template's own objects and
+    :data:`RESTORABLE` (among modules already imported), by ``module:QualName``."""
+    found: dict[str, type] = {}
+    for name in RESTORABLE:
+        module_name, _, qualname = name.partition(":")
+        cls = getattr(sys.modules.get(module_name), qualname, None)
+        if isinstance(cls, type):
+            found[name] = cls
+    seen: set[int] = set()
+    stack = [template]
+    while stack:
+        obj = stack.pop()
+        if obj is None or isinstance(obj, (bool, int, float, complex, str, bytes, np.ndarray, np.generic, np.dtype,
+                                           np.random.Generator)) or isinstance(obj, _CODE) or id(obj) in seen:
+            continue
+        seen.add(id(obj))
+        if isinstance(obj, dict):
+            stack.extend(obj.keys())
+            stack.extend(obj.values())
+        elif isinstance(obj, (list, tuple, set, frozenset, collections.deque)):
+            stack.extend(obj)
+        else:
+            attrs = _attributes(obj)
+            if attrs is None:
+                continue
+            found[_class_name(type(obj))] = type(obj)
+            if not _custom_state(type(obj)):
+                stack.extend(attrs.values())
+    return found
+
+
 class _Decoder:
-    def __init__(self, arrays: list[np.ndarray]) -> None:
+    def __init__(self, arrays: list[np.ndarray], allowed: dict[str, type]) -> None:
         self.arrays = arrays
+        self.allowed = allowed
         self.made: dict[int, Any] = {}  # node id -> object
         self.claimed: set[int] = set()  # ids of live objects already used for some node
 
@@ -349,7 +414,7 @@ class _Decoder:
                 live = copy.copy(live)
             obj = live
         else:
-            obj = _new_instance(name, path)
+            obj = self._new_instance(name, path)
         self.claimed.add(id(obj))
         self._keep(node, obj)
         if node.get("setstate"):
@@ -363,8 +428,8 @@ class _Decoder:
             return obj
         current = _attributes(obj) or {}
         for key, value in attrs.items():
-            if not isinstance(key, str):
-                raise StateFormatError(f"{path}: malformed attribute name")
+            if not isinstance(key, str) or (key.startswith("__") and key.endswith("__")):
+                raise StateFormatError(f"{path}: attribute name {key!r} is not one of a state")
             new = self.node(value, current.get(key, _MISSING), f"{path}.{key}")
             try:
                 object.__setattr__(obj, key, new)
@@ -376,23 +441,17 @@ class _Decoder:
         return obj
 
 
+    def _new_instance(self, name: str, path: str) -> Any:
+        """An empty instance of an allowed class (module docstring); any other name is refused."""
+        cls = self.allowed.get(name)
+        if cls is None:
+            raise StateFormatError(f"{path}: the state names class {name!r}, which is not a class of this model "
+                                   "(only the model's own state classes are restored)")
+        try:
+            return cls.__new__(cls)
+        except TypeError as exc:
+            raise StateFormatError(f"{path}: class {name!r} cannot be restored ({exc})") from None
+
+
 def _class_name(cls: type) -> str:
     return f"{cls.__module__}:{cls.__qualname__}"
-
-
-def _new_instance(name: str, path: str) -> Any:
-    """An empty instance of a project, numpy or scipy class named ``module:QualName``, looked up only
-    among modules already imported (nothing is imported or called on the file's say-so)."""
-    module_name, _, qualname = name.partition(":")
-    if module_name.split(".")[0] not in _ALLOWED_PACKAGES:
-        raise StateFormatError(f"{path}: the state names class {name!r}, which is not a class of this model")
-    module = sys.modules.get(module_name)
-    obj: Any = module
-    for part in qualname.split("."):
-        obj = getattr(obj, part, None) if obj is not None and not part.startswith("__") else None
-    if not isinstance(obj, type) or obj.__module__ != module_name:
-        raise StateFormatError(f"{path}: the state names class {name!r}, which this model does not have")
-    try:
-        return obj.__new__(obj)
-    except TypeError as exc:
-        raise StateFormatError(f"{path}: class {name!r} cannot be restored ({exc})") from None

@@ -30,6 +30,11 @@ class _Node:  # a plain object of a test module: walked by encode, never constru
         self.me = self  # cycle
 
 
+class _Other:
+    def __init__(self) -> None:
+        self.x = 1.0
+
+
 def test_round_trip_of_a_state_tree_keeps_values_types_and_sharing() -> None:
     shared = np.linspace(0, 1, 5)
     state = {"x": shared, "y": shared, "t": (1, 2.5, "s", None, True), "nan": float("nan"), "inf": -np.inf,
@@ -56,15 +61,65 @@ def test_objects_are_restored_into_the_live_template_with_shared_references_and_
     assert not hasattr(out, "cache"), "attributes the saved object did not have are removed (deep-copy semantics)"
 
 
-def test_a_class_outside_the_template_is_refused_unless_it_is_the_projects() -> None:
+def _object_state(name: str, attrs: dict | None = None) -> bytes:
+    return _layout({"tree": {"$": "object", "id": 0, "class": name, "attrs": attrs or {}}, "arrays": []})
+
+
+def _datasource_name() -> str:
+    from numpy.lib import _datasource
+
+    return f"{_datasource.DataSource.__module__}:DataSource"
+
+
+@pytest.mark.parametrize("name", ["subprocess:Popen", "os:_wrap_close", "builtins:object", "numpy:ndarray",
+                                  "orchestrator.results:ResultsWriter", "mbd_fmu.linear_system:LinearMultibodySystem",
+                                  "tests.test_state_files:_Node", "orchestrator.nothing_here:Evil"])
+def test_a_state_cannot_pick_a_class_outside_the_allow_list(name) -> None:
+    """Importable classes, the project's own included, are refused when neither the template holds one nor
+    the allow-list of classes a model creates as it runs (RESTORABLE) names it."""
     with pytest.raises(StateFormatError, match="not a class of this model"):
-        decode(encode(_Node()))  # tests._Node: no template, not a project class
-    node = {"$": "object", "id": 0, "class": "os:system", "attrs": {}}
+        decode(_object_state(name))
     with pytest.raises(StateFormatError, match="not a class of this model"):
-        decode(_layout({"tree": node, "arrays": []}))
-    node = {"$": "object", "id": 0, "class": "orchestrator.nothing_here:Evil", "attrs": {}}
-    with pytest.raises(StateFormatError, match="does not have"):
-        decode(_layout({"tree": node, "arrays": []}))
+        decode(_object_state(name), [_Other()])  # a template of another class does not help
+
+
+def test_a_numpy_class_whose_finaliser_deletes_a_folder_is_refused(tmp_path) -> None:
+    """numpy's DataSource removes its ``_destpath`` folder when collected if ``_istmpdest``: a state that
+    could instantiate it (as any numpy class could, before the allow-list) deleted a folder of its choice."""
+    import gc
+
+    victim = tmp_path / "precious"
+    victim.mkdir()
+    (victim / "data.txt").write_text("keep me")
+    with pytest.raises(StateFormatError, match="not a class of this model"):
+        decode(_object_state(_datasource_name(), {"_istmpdest": True, "_destpath": str(victim)}))
+    gc.collect()
+    assert (victim / "data.txt").read_text() == "keep me"
+
+
+def test_classes_of_the_template_and_of_the_allow_list_are_restored() -> None:
+    from mbd_fmu.formulations import Factorized
+
+    # A second _Node where the template (one _Node) has none: the template's own class, so it is built.
+    saved = [_Node(), _Node()]
+    back = decode(encode(saved), [_Node()])
+    assert len(back) == 2 and all(type(x) is _Node and x.me is x for x in back)
+    # A factorised Newton matrix, created as a model runs (not in a freshly built model): on RESTORABLE.
+    matrix = np.array([[4.0, 1.0], [1.0, 3.0]])
+    lu = decode(encode(Factorized(matrix)))
+    assert type(lu) is Factorized and np.allclose(lu.solve(np.array([1.0, 2.0])), np.linalg.solve(matrix, [1.0, 2.0]))
+    chain = 4 * np.eye(60) + np.eye(60, k=1) + np.eye(60, k=-1)  # large and sparse: SuperLU, kept as its matrix
+    lu = decode(encode(Factorized(chain)))
+    assert lu.kind == "sparse" and np.allclose(chain @ lu.solve(np.ones(60)), 1.0)
+    assert set(state_codec.RESTORABLE) <= set(state_codec.allowed_classes(None))
+
+
+def test_dunder_attribute_names_are_refused() -> None:
+    live = _Node()
+    state = {"$": "object", "id": 0, "class": "tests.test_state_files:_Node", "attrs": {"__class__": 1}}
+    with pytest.raises(StateFormatError, match="'__class__' is not one of a state"):
+        decode(_layout({"tree": state, "arrays": []}), live)
+    assert type(live) is _Node
 
 
 def _layout(header: dict, body: bytes = b"", version: int = 1, magic: bytes = b"WECSTATE") -> bytes:
