@@ -9,8 +9,10 @@ names ``A_inf[k,l]``) is ``6 * (index among hydrodynamic bodies) + dof + 1``.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TextIO
 
 import numpy as np
 
@@ -27,6 +29,7 @@ from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
 
 from .errors import ScenarioError
+from .progress import ProgressBar
 from .scenario import DOFS, BodySection, Scenario
 
 HYDRO = "hydro"
@@ -67,8 +70,12 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
     return bodies, settings
 
 
-def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tuple[HydroDatabase, Path]:
-    """The scenario's database (file named in the scenario, or Capytaine through the cache)."""
+def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
+                  progress: bool = False) -> tuple[HydroDatabase, Path]:
+    """The scenario's database (file named in the scenario, or Capytaine through the cache).
+
+    A Capytaine solve is announced in ``log`` and, with ``progress``, shown frequency by frequency
+    on standard error (:class:`BemProgress`)."""
     if not scenario.hydro_bodies:
         raise ScenarioError(f"{scenario.file}: no body has hydrodynamics")
     if scenario.hydro.database:
@@ -77,15 +84,50 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tu
     else:
         bodies, settings = bem_inputs(scenario)
         cache = scenario.resolve(scenario.hydro.cache_dir)
-        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh,
-                                              log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        shown = BemProgress(len(settings.headings_deg), log=log, enabled=progress)
+        try:
+            hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh, progress=shown,
+                                                  log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        finally:
+            shown.close()
         if log is not None:
-            log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
+            log(f"computed hydrodynamic database {path} in {shown.elapsed:.0f} s" if computed
+                else f"cached hydrodynamic database {path}")
     sub = _match_bodies(scenario, hdb)
     _check_coefficients(scenario, sub)
     if scenario.hydro.added_mass_inf == "ogilvie":
         sub = _ogilvie(scenario, sub, log)
     return sub, path
+
+
+class BemProgress:
+    """Progress of a Capytaine solve (a :data:`hydro_fmu.bem.Progress` callback): one line in ``log``
+    when the solve starts, then a bar on standard error naming the frequency being solved (shown
+    once the solve has lasted 2 s, erased at the end)."""
+
+    def __init__(self, headings: int, *, log=print, enabled: bool = True, stream: TextIO | None = None,
+                 delay: float = 2.0, interval: float = 0.5) -> None:
+        self.headings, self.log, self.enabled, self.stream = headings, log, enabled, stream
+        self.delay, self.interval = delay, interval
+        self.bar: ProgressBar | None = None
+        self.started = math.nan
+        self.elapsed = 0.0
+
+    def __call__(self, done: int, total: int, omega: float) -> None:
+        if self.bar is None:
+            self.started = time.monotonic()
+            self.bar = ProgressBar(0.0, float(total), enabled=self.enabled, delay=self.delay,
+                                   interval=self.interval, stream=self.stream)
+            if self.log is not None:
+                self.log(f"computing the hydrodynamic database with Capytaine: {total - 1} frequencies x "
+                         f"{self.headings} heading(s) and the infinite frequency (this can take minutes) ...")
+        self.elapsed = time.monotonic() - self.started
+        where = "infinite frequency" if math.isinf(omega) else f"omega = {omega:.4g} rad/s"
+        self.bar.update(float(done), f"BEM frequency {done} of {total} ({where})")
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
@@ -445,8 +487,9 @@ def _sorted_dofs(b: BodySection) -> list[str]:
     return sorted(b.dofs, key=DOFS.index)
 
 
-def load_scene(scenario: Scenario, *, refresh: bool = False, log=print) -> Scene:
-    hdb, path = load_database(scenario, refresh=refresh, log=log)
+def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:
+    """The scenario resolved against its database (computed if needed, see :func:`load_database`)."""
+    hdb, path = load_database(scenario, refresh=refresh, log=log, progress=progress)
     check_wave_range(scenario, hdb, path)
     return Scene(scenario, hdb, path)
 
