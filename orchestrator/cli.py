@@ -79,7 +79,7 @@ def cmd_rao(args: argparse.Namespace) -> int:
     if args.form:
         scenario.rao.form = args.form
     out = _out(args.out)
-    scene = load_scene(scenario)
+    scene = load_scene(scenario, progress=True)
     responses = write_rao_file(scene, out)
     print(f"RAOs ({responses[0].form} form) at {len(responses[0].omega)} frequencies and {len(responses)} "
           f"heading(s) written to {out}")
@@ -93,7 +93,7 @@ def cmd_steady(args: argparse.Namespace) -> int:
 
     scenario = _scenario(args.scenario)
     out = _out(args.out)
-    scene = load_scene(scenario)
+    scene = load_scene(scenario, progress=True)
     states = write_steady_file(scene, out, args.harmonics, args.form)
     bad = [st for st in states if not (math.isfinite(st.residual) and all(map(math.isfinite, st.pto_power.values())))]
     if bad:
@@ -120,7 +120,7 @@ def cmd_hydro(args: argparse.Namespace) -> int:
     from .scene import load_database
 
     scenario = _scenario(args.scenario)
-    hdb, path = load_database(scenario, refresh=args.refresh)
+    hdb, path = load_database(scenario, refresh=args.refresh, progress=True)
     print(f"{path}: {hdb.n_bodies} bodies, {len(hdb.omega)} frequencies "
           f"{hdb.omega[0]:g}..{hdb.omega[-1]:g} rad/s, {len(hdb.headings)} headings ({hdb.source})")
     return 0
@@ -132,7 +132,7 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
 
     scenario = _scenario(args.scenario)
     out = _out(args.out, kind="dir")
-    scene = load_scene(scenario)
+    scene = load_scene(scenario, progress=True)
     fmus = build_scene_fmus(scene)
     out.mkdir(parents=True, exist_ok=True)
     for kind, path in fmus.items():
@@ -147,15 +147,17 @@ def cmd_controller(args: argparse.Namespace) -> int:
 
     try:
         return run_example(args)
-    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError) as exc:
+    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError, ValueError) as exc:
         raise WecCosimError(f"controller {args.name!r}: {exc}") from None
+
+
 def cmd_export_ssp(args: argparse.Namespace) -> int:
     from .scene import load_scene
     from .ssp import export_ssp
 
     scenario = _scenario(args.scenario)
     _out(args.out, kind="file")
-    scene = load_scene(scenario)
+    scene = load_scene(scenario, progress=True)
     path = export_ssp(scene, args.out)
     print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
           f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")

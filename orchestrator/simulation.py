@@ -16,7 +16,7 @@ import h5py
 import numpy as np
 
 from . import frequency_domain
-from .analysis import harmonic_fit, steady_window, window_mean
+from .analysis import averaging_window, harmonic_fit, mean_pto_powers, window_mean
 from .checkpoints import checkpoint_path, read_checkpoint, write_checkpoint
 from .components import FmuComponent, InProcessComponent
 from .control.loop import ControlLoop, control_loop
@@ -142,6 +142,8 @@ class RunResult:
     statistics: dict = field(default_factory=dict)
     radiation: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
+    power_window: str = ""
 
     @property
     def real_time_factor(self) -> float:
@@ -188,10 +190,13 @@ def master_settings(scenario: Scenario) -> MasterSettings:
                           divergence_limit=sim.divergence_limit)
 
 
-def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None) -> RunPlan:
-    """Load the scene, build the FMUs for the scenario's added-mass mode, make the master."""
+def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None,
+                progress: bool = False) -> RunPlan:
+    """Load the scene, build the FMUs for the scenario's added-mass mode, make the master (``progress``:
+    show the progress of a BEM solve, if the database must be computed)."""
     # A scene given is reused for its database only (the scenario may be a variant of its own).
-    scene = Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None else load_scene(scenario, log=log)
+    scene = (Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None
+             else load_scene(scenario, log=log, progress=progress))
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
@@ -241,7 +246,7 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    plan = prepare_run(scenario, in_process=in_process, log=log)
+    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress)
     try:
         writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
     except BaseException:
@@ -286,7 +291,7 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     if scenario.control.mode != "off":
         raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
                             "controller's own state is not in the checkpoint); run it again")
-    plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log)
+    plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log, progress=progress)
     sim = scenario.simulation
     old = read_results(results)
     rows = saved["rows"]
@@ -377,6 +382,9 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.notes.append(
                 f"no comparison with the exact steady state: the run ({sim.duration:g} s) is shorter than the ramp "
                 f"and simulation.steady_periods = {sim.steady_periods:g} wave periods ({needed:g} s)")
+    if not result.comparisons and scenario.ptos:
+        with h5py.File(writer.path, "r", swmr=True) as f:
+            result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
     return result
@@ -477,7 +485,7 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
     amplitude = w.height / 2
     fd = frequency_domain.solve(scene, np.array([omega]))
     t = data["time"]
-    mask = steady_window(t, w.period, s.simulation.steady_periods)
+    mask, _ = averaging_window(s, t)  # the window of the figures' mean power too
     # Exact answers are referred to the wave's own phase at the origin.
     wave_phase = np.exp(1j * math.radians(w.phase_deg))
     out = []
@@ -518,6 +526,9 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
+    if result.mean_power:
+        lines.append(f"mean PTO power ({result.power_window}): "
+                     + ", ".join(f"{name} {p / 1e3:.4g} kW" for name, p in result.mean_power.items()))
     lines += result.notes
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "

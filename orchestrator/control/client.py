@@ -53,9 +53,11 @@ class Controller:
         self.steps = 0
         self.id = uuid.uuid4().hex[:16]  # this controller's token and command key: wec/<run>/*/<id>
         self.refused_by: str | None = None  # id of the controller that owns the run, if we are refused
-        self.master_gone = False
+        self.master_gone: str | None = None  # how the master was lost: its liveliness token went, or silence
         self.last_heard = time.monotonic()
         self.finished = threading.Event()
+        self.ended = False  # the master announced the end of the run
+        self.announced = False  # our liveliness token is declared
         self.state = {}  # free for laws that keep memory between steps
 
     @property
@@ -103,15 +105,17 @@ class Controller:
         except ValueError:
             return
         owner = status.get("controller") if isinstance(status, dict) else None
-        if owner and owner != self.id and getattr(self, "_token", None) is not None:
+        if owner and owner != self.id and self.announced:
             self.refused_by = owner
             self.finished.set()
         if not isinstance(status, dict) or status.get("state") != "running":
+            self.ended = True
             self.finished.set()
 
     def _on_master(self, sample) -> None:  # noqa: ANN001
-        if not str(sample.kind).upper().endswith("PUT"):
-            self.master_gone = True
+        # The master withdraws its token also after a normal end (status first): only an unannounced loss counts.
+        if not str(sample.kind).upper().endswith("PUT") and not self.ended:
+            self.master_gone = "its liveliness token went away (process killed or network lost)"
             self.finished.set()
 
     def run(self, max_wall_time: float | None = None, timeout: float = 60.0) -> None:
@@ -127,6 +131,7 @@ class Controller:
         self._subscriber = self.session.declare_subscriber(protocol.key(self.run_id, "measurements"),
                                                            self._on_measurements)
         # The token tells the master we are ready: declare it only once we can hear measurements.
+        self.announced = True  # from now on a status naming another controller means we are refused
         self._token = self.session.liveliness().declare_token(protocol.key(self.run_id, f"controller/{self.id}"))
         start = self.last_heard = time.monotonic()
         try:
@@ -135,7 +140,7 @@ class Controller:
                 if max_wall_time is not None and now - start >= max_wall_time:
                     break
                 if now - self.last_heard > timeout:
-                    self.master_gone = True
+                    self.master_gone = f"it was silent for {timeout:g} s (--timeout)"
                     break
         finally:
             self.close()
@@ -143,8 +148,8 @@ class Controller:
             raise RuntimeError(f"run {self.run_id!r} is already driven by controller {self.refused_by}; this "
                                "controller is refused (one controller per run id)")
         if self.master_gone:
-            raise RuntimeError(f"the master of run {self.run_id!r} disappeared (no liveliness, or silent for "
-                               f"{timeout:g} s) after {self.steps} control steps")
+            raise RuntimeError(f"the master of run {self.run_id!r} is gone after {self.steps} control steps: "
+                               f"{self.master_gone}")
 
     def close(self) -> None:
         if self.session is not None:

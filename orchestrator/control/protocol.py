@@ -102,6 +102,13 @@ class Manifest:
     def command_index(self) -> dict[str, int]:
         return {s.name: i for i, s in enumerate(self.commands)}
 
+    def command_limits(self, kind: str) -> tuple[float, float]:
+        """The range of command ``kind`` (``damping``, ``stiffness``, ``force_command``) that every
+        controlled PTO accepts (the scenario's ``control.*_limits``)."""
+        signals = [s for s in self.commands if s.name.rsplit(".", 1)[-1] == kind]
+        return (max((s.minimum for s in signals), default=-math.inf),
+                min((s.maximum for s in signals), default=math.inf))
+
 
 @dataclass(frozen=True)
 class Frame:
