@@ -9,10 +9,8 @@ names ``A_inf[k,l]``) is ``6 * (index among hydrodynamic bodies) + dof + 1``.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TextIO
 
 import numpy as np
 
@@ -29,7 +27,7 @@ from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
 
 from .errors import ScenarioError
-from .progress import ProgressBar
+from .progress import BemProgress
 from .scenario import DOFS, BodySection, Scenario
 
 HYDRO = "hydro"
@@ -98,36 +96,6 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
     if scenario.hydro.added_mass_inf == "ogilvie":
         sub = _ogilvie(scenario, sub, log)
     return sub, path
-
-
-class BemProgress:
-    """Progress of a Capytaine solve (a :data:`hydro_fmu.bem.Progress` callback): one line in ``log``
-    when the solve starts, then a bar on standard error naming the frequency being solved (shown
-    once the solve has lasted 2 s, erased at the end)."""
-
-    def __init__(self, headings: int, *, log=print, enabled: bool = True, stream: TextIO | None = None,
-                 delay: float = 2.0, interval: float = 0.5) -> None:
-        self.headings, self.log, self.enabled, self.stream = headings, log, enabled, stream
-        self.delay, self.interval = delay, interval
-        self.bar: ProgressBar | None = None
-        self.started = math.nan
-        self.elapsed = 0.0
-
-    def __call__(self, done: int, total: int, omega: float) -> None:
-        if self.bar is None:
-            self.started = time.monotonic()
-            self.bar = ProgressBar(0.0, float(total), enabled=self.enabled, delay=self.delay,
-                                   interval=self.interval, stream=self.stream)
-            if self.log is not None:
-                self.log(f"computing the hydrodynamic database with Capytaine: {total - 1} frequencies x "
-                         f"{self.headings} heading(s) and the infinite frequency (this can take minutes) ...")
-        self.elapsed = time.monotonic() - self.started
-        where = "infinite frequency" if math.isinf(omega) else f"omega = {omega:.4g} rad/s"
-        self.bar.update(float(done), f"BEM frequency {done} of {total} ({where})")
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()
 
 
 def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:

@@ -50,7 +50,7 @@ def test_bem_solve_shows_each_frequency_and_equals_capytaines_own_fill_dataset(t
     import xarray as xr
 
     from hydro_fmu.bem import BemSettings, _floating_body, cached_database
-    from orchestrator.scene import BemProgress
+    from orchestrator.progress import BemProgress
 
     stream, log = io.StringIO(), []
     settings = BemSettings(omega=(0.5, 1.0, 2.0), headings_deg=(0.0,))
