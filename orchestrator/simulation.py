@@ -23,6 +23,7 @@ from .control.loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .errors import MasterError, WecCosimError
 from .input_checks import check_output
+from .interrupts import InterruptAtStep
 from .masters import EnergyStepController, FixedStepController, Master, MasterSettings, StepController, make_master
 from .monolithic import MonolithicMaster
 from .progress import ProgressBar
@@ -335,7 +336,10 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
 
     control = plan.control
 
+    interrupt = InterruptAtStep()
+
     def observe(t: float, outputs: dict[str, np.ndarray]) -> None:
+        interrupt.check()  # Ctrl-C: stop here, between steps (not inside an FMU's step)
         k = state.steps
         if control:
             control.on_point(t, outputs)
@@ -352,7 +356,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
 
     start = time.perf_counter()
     try:
-        master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
+        with interrupt:
+            master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
         raise MasterError(f"{exc}{_divergence_advice(plan)} (results up to t = {master.time:g} s are in "
