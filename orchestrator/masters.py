@@ -311,11 +311,16 @@ class Master:
                 self._scale[c] = np.maximum(self._scale.get(c, scale), scale)
 
     def _weights(self, tau: tuple[float, ...], h: float, point: float | None = None) -> np.ndarray:
-        """Cached: with fixed steps the same few weight vectors serve the whole run."""
+        """Cached: with fixed steps the same few weight vectors serve the whole run.
+
+        The weights are computed from the rounded key itself, never from the first unrounded
+        times that produced it: the cache is then a pure function of its key, so a run resumed
+        from a checkpoint (empty cache) uses bit for bit the weights of an uninterrupted run."""
         key = (tuple(round(x, 12) for x in tau), round(h, 12), point)
         w = self._weights_cache.get(key)
         if w is None:
-            w = step_average_weights(tau, h) if point is None else point_weights(tau, point)
+            tau_k, h_k = key[0], key[1]
+            w = step_average_weights(tau_k, h_k) if point is None else point_weights(tau_k, point)
             if len(self._weights_cache) > 256:
                 self._weights_cache.clear()
             self._weights_cache[key] = w
