@@ -337,7 +337,7 @@ def test_frames_round_trip_and_reject_defects() -> None:
     assert len(payload) == 24 + 3 * 8
     frame = protocol.decode(payload, protocol.COMMANDS, 3)
     assert (frame.step, frame.time, frame.values) == (7, 0.7, (1.0, 2.0, 3.0))
-    for bad, fault in ((payload[:-8], "wrong_length"), (b"\x02\x00" + payload[2:], "wrong_version"),
+    for bad, fault in ((payload[:-8], "wrong_length"), (b"\x01\x00" + payload[2:], "wrong_version"),
                        (payload[:2] + b"\x01\x00" + payload[4:], "wrong_kind"), (payload[:10], "wrong_length")):
         with pytest.raises(protocol.FrameError) as info:
             protocol.decode(bad, protocol.COMMANDS, 3)

@@ -1,4 +1,7 @@
-"""Wire protocol between the master and an external controller (version 1).
+"""Wire protocol between the master and an external controller (version 2).
+
+Version 1 had one ``commands`` key per run and no controller ownership; a version-1 controller
+is refused with a clear error when it reads the manifest.
 
 Key expressions, all under ``wec/<run_id>/``:
 
@@ -18,7 +21,7 @@ Key expressions, all under ``wec/<run_id>/``:
 Frame (little-endian), 24-byte header then values::
 
     offset  size  type     field
-    0       2     uint16   protocol version (1)
+    0       2     uint16   protocol version (2)
     2       2     uint16   kind: 1 = measurements, 2 = commands
     4       4     uint32   number of values n
     8       8     int64    control step index k (commands: the k of the measurements answered)
@@ -33,7 +36,7 @@ import math
 import struct
 from dataclasses import asdict, dataclass, field
 
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 MEASUREMENTS = 1
 COMMANDS = 2
 HEADER = struct.Struct("<HHIqd")
