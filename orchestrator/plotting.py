@@ -31,6 +31,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if "parameter" in f.attrs and "values" in f:
+                raise WecCosimError(f"plot: {path} is a sweep file (wec-cosim sweep); it has no figure yet: read "
+                                    "ptos/<name>/mean_power against values and periods with h5py")
             if "omega" in f:
                 return [plot_rao(f, out / f"{path.stem}_rao.png")]
             if "periods" in f:
@@ -39,6 +42,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
                 return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
+    except (KeyError, ValueError, IndexError) as exc:
+        raise WecCosimError(f"plot: {path} lacks what its figure needs ({type(exc).__name__}: {exc}); is it a "
+                            "complete wec-cosim file?") from None
     raise WecCosimError(f"plot: {path} is neither a results file (/time), a RAO file (/omega) nor a steady-state "
                         "file (/periods)")
 
@@ -67,17 +73,22 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
             force = f[f"bodies/{name}/hydro_force"][()]
             for j in _active(force):
                 axes[1].plot(t, force[:, j], label=f"{name} {DOFS[j]}")
+    means, where = mean_powers_of(f)
     ptos = list(f.get("ptos", {}))
     power = {name: f[f"ptos/{name}/power"][()] for name in ptos}
-    scale, unit = _power_unit(max((np.max(np.abs(p)) for p in power.values()), default=1e3) * (
-        len(ptos) if len(ptos) > MANY_PTOS else 1))
-    if len(ptos) > MANY_PTOS:
+    many = len(ptos) > MANY_PTOS
+    scale, unit = _power_unit(max((np.max(np.abs(p)) for p in power.values()), default=1e3)
+                              * (len(ptos) if many else 1))
+    if many:
         total = np.sum(list(power.values()), axis=0)
-        axes[2].plot(t, total / scale, color="tab:red",
-                     label=f"total of {len(ptos)} PTOs (mean {np.mean(total) / scale:.3g} {unit})")
+        mean = f", mean {sum(means.values()) / scale:.4g} {unit}" if len(means) == len(ptos) else ""
+        axes[2].plot(t, total / scale, color="tab:red", label=f"total of {len(ptos)} PTOs{mean}")
     else:
         for name, p in power.items():
-            axes[2].plot(t, p / scale, label=f"{name} (mean {np.mean(p) / scale:.3g} {unit})")
+            mean = f", mean {means[name] / scale:.4g} {unit}" if name in means else ""
+            axes[2].plot(t, p / scale, label=f"{name}{mean}")
+    if means:
+        axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
@@ -89,6 +100,24 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
 def _power_unit(largest: float) -> tuple[float, str]:
     """Scale and unit of a power axis: W below 1 kW, else kW."""
     return (1.0, "W") if largest < 1e3 else (1e3, "kW")
+
+
+def mean_powers_of(f: h5py.File) -> tuple[dict[str, float], str]:
+    """The PTOs' mean power over the run summary's window (:func:`analysis.mean_pto_powers`), from the
+    scenario stored in the file; none if the file holds no readable scenario."""
+    import tomllib
+
+    from . import schema
+    from .analysis import mean_pto_powers
+    from .errors import ScenarioError
+    from .scenario import Scenario
+
+    try:
+        text = f.attrs["scenario"]
+        scenario = schema.load(Scenario, tomllib.loads(text if isinstance(text, str) else text.decode()), f.filename)
+        return mean_pto_powers(scenario, f)
+    except (KeyError, ValueError, TypeError, ScenarioError, tomllib.TOMLDecodeError):
+        return {}, ""
 
 
 def _save(plt, fig, axes, ylabels: tuple[str, ...], xlabel: str, target: Path) -> Path:  # noqa: ANN001
