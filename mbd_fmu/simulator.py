@@ -142,7 +142,9 @@ class MultibodySimulator:
         m, f = self.model, self.formulation
         cm = f.compiled
         if cm is not None:
-            return kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
+            diss, supply = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
+            k = self.kin if self.ptos else None  # the PTOs' share in Python: a few coordinates per substep
+            return diss, supply, sum(p.powers(k)[0] for p in self.ptos)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]
         diss = sum(p[0] for p in powers)
