@@ -277,33 +277,33 @@ GRID_9 = ("omega = { start = 0.2, stop = 12.0, step = 0.2 }   # 0.2 rad/s keeps 
           "(docs/arrays.md: the 4N3LA database at 0.1 and 0.2 rad/s)")
 
 
-# Mean power against the PTOs' stiffness and damping (all PTOs together): `wec-cosim sweep` with the Dask-based
-# sweep of issue 18 (`[sweep.grid]`, one case per combination). It needs a key path for every PTO at once,
-# `ptos.*.<key>` (issue 18's grid names one PTO per key); the table is written when the scenario schema
-# has `sweep.grid` (docs/arrays.md: what remains after that merge).
-SWEEP_GRID = f"""# `wec-cosim sweep SCENARIO --out sweep.h5`: mean power of every PTO (and their total) in the
-# irregular sea against the PTOs' common stiffness and damping, around the baseline
-# {PTO.stiffness:g} N m/rad, {PTO.damping:g} N m s/rad (exact frequency domain; `--method time_domain`
-# co-simulates each case).
+# Mean power against one PTO's stiffness and damping: `wec-cosim sweep` of main's Dask sweep (issue 18,
+# docs/sweeps.md), whose `[sweep.grid]` names one PTO per key. The grid sweeps the rear node's relative
+# pitch PTO (LA2_S2_pitch, the largest mean power of the twelve), the other eleven at the baseline. The file
+# lives here, not in scenarios/, because this branch's schema has the older one-key `[sweep]` (no `grid`):
+# it is meant for the code after the merge with main.
+PTO_STUDY = "array_4n3la_pto_study"
+PTO_STUDY_PTO = "LA2_S2_pitch"
+PTO_STUDY_GRID = f"""
+# `wec-cosim sweep scenarios/data/arrays/{PTO_STUDY}.toml --out results/{PTO_STUDY}.h5`:
+# mean power of every PTO and their total in the irregular sea against {PTO_STUDY_PTO}'s stiffness and
+# damping around the baseline {PTO.stiffness:g} N m/rad, {PTO.damping:g} N m s/rad (exact frequency domain;
+# `--method time_domain` co-simulates each case, 300 s each).
 [sweep]
 method = "frequency_domain"
 [sweep.grid]
-"ptos.*.stiffness" = [{PTO.stiffness / 2:g}, {PTO.stiffness:g}, {2 * PTO.stiffness:g}]   # N m/rad
-"ptos.*.damping" = [{PTO.damping / 2:g}, {PTO.damping:g}, {2 * PTO.damping:g}]          # N m s/rad
+ptos.{PTO_STUDY_PTO}.stiffness = {{stiffness}}   # N m/rad
+ptos.{PTO_STUDY_PTO}.damping = {{damping}}   # N m s/rad
 """
 
 
-def schema_has_sweep_grid() -> bool:
-    """True once the scenario schema has issue 18's `[sweep.grid]` (the one-key sweep before it has none)."""
-    import dataclasses
-    import sys
-
-    sys.path.insert(0, str(SCENARIOS.parent))
-    try:
-        from orchestrator.scenario import SweepSection
-    except ImportError:
-        return False
-    return "grid" in {f.name for f in dataclasses.fields(SweepSection)}
+def pto_study_text(text_4n3la: str) -> str:
+    """The 4N3LA scenario with its own name, the committed database one folder up, and the PTO grid."""
+    text = text_4n3la.replace('name = "array_4n3la"', f'name = "{PTO_STUDY}"', 1)
+    text = text.replace("[hydro]\n", '[hydro]\ncache_dir = "../../hydro_cache"   # scenarios/hydro_cache\n', 1)
+    grid = PTO_STUDY_GRID.format(stiffness=vec([0.0, PTO.stiffness, 2 * PTO.stiffness]),
+                                 damping=vec([PTO.damping / 2, PTO.damping, 2 * PTO.damping, 4 * PTO.damping]))
+    return text + grid
 
 
 def main() -> None:
@@ -316,10 +316,13 @@ def main() -> None:
             HEADER.format(title="9N9LA", what="array: 9 nodes, 9 link arms, a hexagonal closed loop"),
             IRREGULAR, SIMULATION.format(duration="120.0"), GRID_9),
     }
-    sweep = SWEEP_GRID if schema_has_sweep_grid() else ""
     for name, text in files.items():
-        (SCENARIOS / name).write_text(text + ("\n" + sweep if sweep else ""))
+        (SCENARIOS / name).write_text(text)
         print(f"wrote {SCENARIOS / name}")
+    study = SCENARIOS / "data" / "arrays" / f"{PTO_STUDY}.toml"
+    study.parent.mkdir(parents=True, exist_ok=True)
+    study.write_text(pto_study_text(files["array_4n3la.toml"]))
+    print(f"wrote {study}")
 
 
 if __name__ == "__main__":
