@@ -274,19 +274,23 @@ def drift(name: str, duration: float, h: float) -> tuple[float, float]:
     return worst, motion
 
 
-def test_4n3la_constraints_do_not_drift_over_ten_minutes() -> None:
-    """600 s of the irregular sea at 0.2 s steps (3000 steps): the 18 constraint equations stay satisfied to
-    1e-9 m while the nodes pitch and yaw against their arms by a tenth of a radian (9N9LA's closed loop: the
-    same in the slow suite, about twice as dear)."""
-    worst, motion = drift("array_4n3la", 600.0, 0.2)
+def test_4n3la_constraints_do_not_drift_over_two_minutes() -> None:
+    """120 s of the irregular sea at 0.2 s steps (600 steps): the 18 constraint equations stay satisfied to
+    1e-9 m while the nodes pitch and yaw against their arms by a tenth of a radian. The default suite's
+    variant: ten minutes of 4N3LA cost 249 s under load (about 80 ms a step on the Python path), over the
+    suite's budget; the ten-minute and three-hour runs of both arrays are in the slow suite."""
+    worst, motion = drift("array_4n3la", 120.0, 0.2)
+    print(f"4N3LA 120 s: constraint residual {worst:.2e} m, largest relative angle {motion:.3f} rad")
     assert worst < 1e-9
     assert motion > 0.01
 
 
 @pytest.mark.slow
-def test_9n9la_constraints_do_not_drift_over_ten_minutes() -> None:
-    """The closed hexagonal loop's 54 constraint equations over 600 s at 0.2 s steps."""
-    worst, motion = drift("array_9n9la", 600.0, 0.2)
+@pytest.mark.parametrize("name", ARRAYS)
+def test_arrays_constraints_do_not_drift_over_ten_minutes(name) -> None:
+    """600 s at 0.2 s steps; for 9N9LA the closed hexagonal loop's 54 constraint equations."""
+    worst, motion = drift(name, 600.0, 0.2)
+    print(f"{name} 600 s: constraint residual {worst:.2e} m, largest relative angle {motion:.3f} rad")
     assert worst < 1e-9
     assert motion > 0.01
 
@@ -295,6 +299,7 @@ def test_9n9la_constraints_do_not_drift_over_ten_minutes() -> None:
 @pytest.mark.parametrize("name", ARRAYS)
 def test_arrays_constraints_do_not_drift_over_three_hours(name) -> None:
     worst, motion = drift(name, 3 * 3600.0, 0.2)
+    print(f"{name} 3 h: constraint residual {worst:.2e} m, largest relative angle {motion:.3f} rad")
     assert worst < 1e-9
     assert motion > 0.01
 
