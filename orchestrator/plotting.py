@@ -39,7 +39,10 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
-                return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
+                figures = [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
+                if "energy/excitation_work" in f:
+                    figures.append(plot_energy(f, out / f"{path.stem}_energy.png"))
+                return figures
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
     except (KeyError, ValueError, IndexError) as exc:
@@ -95,6 +98,31 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
     _drop_crowded_legends(axes[:2])
     return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", f"PTO power ({unit})",
                                   "wave elevation (m)"), "time (s)", target)
+
+
+ENERGY_TERMS = (("work_in", "work in (excitation)"), ("pto", "PTO"), ("radiated", "radiated"),
+                ("dissipated", "dissipated (viscous, ropes, dampers)"), ("stored", "stored (change)"))
+
+
+def plot_energy(f: h5py.File, target: Path) -> Path:
+    """The wave-to-wire energy account against time: the work the waves did and where it went (PTO, radiated,
+    dissipated, stored), and the balance's residual relative to the work in."""
+    from .simulation import energy_terms
+
+    plt = _pyplot()
+    t = f["time"][()]
+    terms = energy_terms({f"energy/{name}": f[f"energy/{name}"][()] for name in f["energy"]})
+    fig, axes = plt.subplots(2, 1, figsize=(10, 7), sharex=True, height_ratios=(2, 1))
+    for key, label in ENERGY_TERMS:
+        axes[0].plot(t, terms[key], label=f"{label}: {terms[key][-1]:.4g} J at the end")
+    axes[0].plot(t, terms["pto"] + terms["radiated"] + terms["dissipated"] + terms["stored"], "k:",
+                 label="PTO + radiated + dissipated + stored")
+    work = np.abs(terms["work_in"])
+    relative = np.divide(terms["residual"], work, out=np.full_like(work, np.nan), where=work > 0.01 * work.max())
+    axes[1].plot(t, 100 * relative, color="tab:red",
+                 label=f"residual / work in: {100 * relative[-1]:.3g} % at the end")
+    fig.suptitle(f"{Path(f.filename).name}: wave-to-wire energy account")
+    return _save(plt, fig, axes, ("energy (J)", "residual (%)"), "time (s)", target)
 
 
 def _power_unit(largest: float) -> tuple[float, str]:

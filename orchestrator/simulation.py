@@ -143,16 +143,23 @@ def wave_balance(e: dict) -> float:
             - (stored - e["energy/hydrostatic_work"]))
 
 
+def energy_terms(e: dict) -> dict:
+    """The wave-to-wire energy account's terms (J) from a results file's ``energy/*`` series (arrays, one
+    value per row) or one row's values: work in (excitation), PTO, radiated, dissipated outside the PTOs
+    (viscous, ropes, bushings...), stored (kinetic, potential and hydrostatic, change since the start) and the
+    residual of ``work in = PTO + radiated + dissipated + stored`` (:func:`wave_balance`)."""
+    stored = e["energy/balance"] + e["energy/external_work"] - e["energy/dissipated"]
+    return {"work_in": e["energy/excitation_work"], "pto": e["energy/pto"],
+            "radiated": -e["energy/radiation_work"],
+            "dissipated": e["energy/dissipated"] - e["energy/pto"] - e["energy/viscous_work"],
+            "stored": stored - e["energy/hydrostatic_work"], "residual": wave_balance(e)}
+
+
 def energy_account(data: dict) -> dict[str, float] | None:
     """The wave-to-wire energy account at the end of a results file (J), or None without one."""
     if "energy/excitation_work" not in data:
         return None
-    end = {k: float(v[-1]) for k, v in data.items() if k.startswith("energy/")}
-    stored = end["energy/balance"] + end["energy/external_work"] - end["energy/dissipated"]
-    return {"work_in": end["energy/excitation_work"], "pto": end["energy/pto"],
-            "radiated": -end["energy/radiation_work"],
-            "dissipated": end["energy/dissipated"] - end["energy/pto"] - end["energy/viscous_work"],
-            "stored": stored - end["energy/hydrostatic_work"], "residual": wave_balance(end)}
+    return energy_terms({k: float(v[-1]) for k, v in data.items() if k.startswith("energy/")})
 
 
 @dataclass

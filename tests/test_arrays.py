@@ -225,6 +225,9 @@ def test_4n3la_cosimulation_through_fmpy_matches_the_frequency_domain(tmp_path) 
     result = run_scenario(s, tmp_path / "run.h5", progress=False, log=None)
     worst = check_against_frequency_domain(s, tmp_path / "run.h5", result)
     print("4n3la 2.6 rad/s (fmpy):", worst)
+    from orchestrator.plotting import plot_file
+
+    assert [p.name for p in plot_file(tmp_path / "run.h5")] == ["run_timeseries.png", "run_energy.png"]
 
 
 @pytest.mark.slow
