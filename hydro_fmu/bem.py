@@ -26,6 +26,7 @@ import numpy as np
 
 from .bemio import read_bemio, write_bemio
 from .hdb import HydroDatabase, HydroDatabaseError
+from .hydrostatics import hull_hydrostatics
 from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mesh, to_capytaine
 
 # Bump when the way a database is computed changes: invalidates every cached file.
@@ -212,9 +213,11 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> 
         # Capytaine exp(-i w t) -> exp(+i w t): complex conjugate.
         return np.conj(da.transpose("wave_direction", "omega", "influenced_dof").sel(influenced_dof=dofs).values)
 
-    stiffness = np.stack([
-        cb.compute_hydrostatic_stiffness(rho=settings.rho, g=settings.g).values for cb in cpt_bodies
-    ])
+    # Volume, centre of buoyancy and restoring matrix by the z form of the divergence theorem
+    # (hull_hydrostatics): the same as Capytaine's for closed hulls, and right for hulls open along
+    # vertical faces where they touch another body (F3OF), where Capytaine's average of the three forms is not.
+    statics = [hull_hydrostatics(body_mesh(b.geometry).immersed_part(), b.cg, settings.rho, settings.g)
+               for b in bodies]
     hdb = HydroDatabase(
         body_names=[b.name for b in bodies],
         omega=omega,
@@ -225,10 +228,10 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> 
         excitation=forces(ds["excitation_force"]),
         froude_krylov=forces(ds["Froude_Krylov_force"]),
         diffraction=forces(ds["diffraction_force"]),
-        hydrostatic_stiffness=stiffness,
+        hydrostatic_stiffness=np.stack([k for _, _, k in statics]),
         cg=np.array([b.cg for b in bodies], dtype=float),
-        cb=np.array([np.asarray(cb.center_of_buoyancy) for cb in cpt_bodies]),
-        displaced_volume=np.array([cb.volume for cb in cpt_bodies]),
+        cb=np.array([cb for _, cb, _ in statics]),
+        displaced_volume=np.array([v for v, _, _ in statics]),
         rho=settings.rho,
         g=settings.g,
         water_depth=settings.water_depth,
