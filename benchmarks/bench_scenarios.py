@@ -32,6 +32,10 @@ SCENARIOS: list[tuple[str, str]] = [
     ("cylinder_regular.toml", "one float, heave, regular waves"),
     ("cylinder_irregular.toml", "one float, heave, irregular sea"),
     ("hinge_barge.toml", "seed 003 two-body hinge barge, index-3"),
+    ("f3of_dt1.toml", "seed 000 F3OF decay 1: base surge on a prismatic joint, flaps locked"),
+    ("f3of_dt2.toml", "seed 000 F3OF decay 2: base pitch about (0, 0, -9), flaps locked"),
+    ("f3of_dt3.toml", "seed 000 F3OF decay 3: base fixed, two flaps on hinges"),
+    ("f3of_rao.toml", "seed 000 F3OF, regular waves T = 10 s, base moored, flaps free"),
 ]
 
 
