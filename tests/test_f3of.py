@@ -157,28 +157,30 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("step", [0.1, 0.05])
 def test_dt3_linear_regime_periods_and_damping_and_step_convergence(tmp_path, step) -> None:
-    """From 1 deg (linear regime): periods and damping ratios of both modes against the roots, at the
-    bundled step and at half of it (the errors printed give the observed order, docs/f3of.md)."""
+    """From 1 deg (linear regime): periods and damping ratios of both modes against the roots within the
+    issue's 1 %, at the bundled step and at half of it (the errors printed give the observed order,
+    docs/f3of.md)."""
     s = flap1_from(scenario("f3of_dt3", simulation__duration=DT3_WINDOW[1], simulation__step=step), 1.0)
     data = run(s, tmp_path)
     errors = dt3_errors(data, dt3_modes(load_scene(s, log=None))[:2])
     print(f"DT3 1 deg, step {step}: (period, damping) errors", errors)
     for period_error, damping_error in errors:
         assert abs(period_error) < 0.01
-        assert abs(damping_error) < 0.05
+        assert abs(damping_error) < 0.01
 
 
 @pytest.mark.slow
 def test_dt1_surge_decay(tmp_path) -> None:
-    """DT1: the period within 1 % of the linear model's root; the damping ratio (5e-4, all of it the
-    impulse response's low-frequency error: the database's own surge damping at 47 s gives 6e-6) within 5 %."""
+    """DT1: the period and the damping ratio within the issue's 1 % of the linear model's root (the
+    damping ratio, about 5e-4, is mostly the impulse response's low-frequency error: the database's own
+    surge damping at 47 s gives 6e-6; docs/f3of.md)."""
     s = scenario("f3of_dt1")
     data = run(s, tmp_path)
     (root,) = natural_modes(load_scene(s, log=None))
     m = fit_decay(data["time"], data["bodies/base/displacement"][:, 0], 1, (20.0, s.simulation.duration)).modes[0]
     print("DT1", m.period, m.damping_ratio, root.period, root.damping_ratio)
     assert m.period == pytest.approx(root.period, rel=0.01)
-    assert m.damping_ratio == pytest.approx(root.damping_ratio, rel=0.05)
+    assert m.damping_ratio == pytest.approx(root.damping_ratio, rel=0.01)
 
 
 @pytest.mark.slow
