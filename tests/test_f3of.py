@@ -138,7 +138,10 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
     data = run(s, tmp_path, in_process=False)
     scene = load_scene(s, log=None)
     same, mirror, _ = dt3_modes(scene)
-    for period_error, damping_error in dt3_errors(data, (same, mirror)):
+    errors = dt3_errors(data, (same, mirror))
+    print("DT3 10 deg, fmpy: roots (period, damping ratio)", [(m.period, m.damping_ratio) for m in (same, mirror)],
+          "(period, damping) errors", errors)
+    for period_error, damping_error in errors:
         assert abs(period_error) < 0.01, (period_error, damping_error)
     t = data["time"]
     fore, aft = data["bodies/flap1/displacement"][:, 4], data["bodies/flap2/displacement"][:, 4]
