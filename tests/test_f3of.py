@@ -132,7 +132,7 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
     """The scenario as bundled (FMUs through fmpy): both modes' periods within 1 % of the linear model's
     roots; damping ratios reported (from 10 deg the decay is measurably nonlinear, docs/f3of.md). The aft
     flap, moved only through the water, first swings against the fore flap's displacement and, the two
-    modes being 4 % apart, takes over the motion at the beat (about 190 s): half the pitch amplitude or
+    modes being 4 % apart, takes over the motion at the beat (about 180 s): half the pitch amplitude or
     more. The hinge reactions are recorded; at rest the aft hinge holds the flap's net buoyancy down."""
     s = scenario("f3of_dt3", simulation__duration=DT3_WINDOW[1])
     data = run(s, tmp_path, in_process=False)
