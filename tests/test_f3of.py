@@ -172,15 +172,20 @@ def test_dt3_linear_regime_periods_and_damping_and_step_convergence(tmp_path, st
         assert abs(damping_error) < 0.01
 
 
+DT1_WINDOW = (400.0, 2000.0)  # s: after the kernel's 240 s, 34 cycles (docs/f3of.md: why so long)
+
+
 @pytest.mark.slow
 def test_dt1_surge_decay(tmp_path) -> None:
-    """DT1: the period and the damping ratio within the issue's 1 % of the linear model's root (the
-    damping ratio, about 5e-4, is mostly the impulse response's low-frequency error: the database's own
-    surge damping at 47 s gives 6e-6; docs/f3of.md)."""
-    s = scenario("f3of_dt1")
+    """DT1: the period and the damping ratio within the issue's 1 % of the linear model's root. The
+    damping ratio, about 5e-4 (mostly the impulse response's low-frequency error: the database's own
+    surge damping at 47 s gives 6e-6), changes the amplitude by only 3 % over the bundled 400 s; the fit
+    then also sees the radiation memory's non-modal start (1.5 % off in damping over 20-400 s), so the
+    record is 2000 s long and the fit starts after the kernel's length."""
+    s = scenario("f3of_dt1", simulation__duration=DT1_WINDOW[1])
     data = run(s, tmp_path)
     (root,) = natural_modes(load_scene(s, log=None))
-    m = fit_decay(data["time"], data["bodies/base/displacement"][:, 0], 1, (20.0, s.simulation.duration)).modes[0]
+    m = fit_decay(data["time"], data["bodies/base/displacement"][:, 0], 1, DT1_WINDOW).modes[0]
     print("DT1", m.period, m.damping_ratio, root.period, root.damping_ratio)
     assert m.period == pytest.approx(root.period, rel=0.01)
     assert m.damping_ratio == pytest.approx(root.damping_ratio, rel=0.01)
