@@ -232,9 +232,13 @@ def run_scenario(
     in_process: bool = False,
     log=print,
     progress: bool = True,
+    scene: Scene | None = None,
 ) -> RunResult:
-    """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
-    plan = prepare_run(scenario, in_process=in_process, log=log)
+    """Run the scenario's co-simulation, write the results file, compare with the exact answer.
+
+    ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
+    """
+    plan = prepare_run(scenario, in_process=in_process, log=log, scene=scene)
     sim = scenario.simulation
     path = Path(output or sim.output or Path("results") / f"{scenario.name}.h5")
     writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
