@@ -18,7 +18,7 @@ def format_outcome(outcome: SweepOutcome) -> str:
         finished = [cases[i] for i in ids if i in cases]
         failures = [g for g in finished if g.attrs["status"] != "ok"]
         lines = [f"{outcome.path}: {len(finished)} of {outcome.total} cases finished, {len(failures)} failed "
-                 f"(this run: {outcome.ran} cases in {outcome.wall_time:.1f} s)"]
+                 f"(this run: {outcome.ran} case{'s' if outcome.ran != 1 else ''} in {outcome.wall_time:.1f} s)"]
         for g in failures[:MAX_FAILURES_SHOWN]:
             lines.append(f"  failed: {g.attrs['label']}: {g.attrs['error']}")
         if len(failures) > MAX_FAILURES_SHOWN:

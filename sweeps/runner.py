@@ -107,7 +107,8 @@ def _results(tasks: list[CaseTask], client, in_process: bool, scheduler: str | N
 def _plan_line(plan: SweepPlan, already: int, todo: int, path: Path) -> str:
     grid = " x ".join(f"{a.key} ({len(a.values)})" for a in plan.axes) or "no grid"
     seeds = f", {plan.seeds} seeds per irregular-sea cell" if plan.seeds > 1 else ""
-    return (f"sweep ({plan.method.replace('_', ' ')}): {grid}{seeds} = {len(plan.cases)} cases; "
+    n = len(plan.cases)
+    return (f"sweep ({plan.method.replace('_', ' ')}): {grid}{seeds} = {n} case{'s' if n != 1 else ''}; "
             f"{already} already in {path}, {todo} to run")
 
 

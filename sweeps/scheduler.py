@@ -33,7 +33,7 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
     """A Dask client on the cluster at ``address``, or on a new local cluster of ``workers`` processes
     (0: one per core), closed on exit. Prints the dashboard's address when there is one."""
     import dask
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     address = address or dask.config.get("scheduler-address", None)
     if address:
@@ -48,9 +48,8 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
             log(f"Dask scheduler {address}: {len(client.scheduler_info()['workers'])} workers")
     else:
         n = workers or dask.system.CPU_COUNT
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, silence_logs=logging.ERROR,
-                               dashboard_address=":8787" if _has_dashboard() else None)
-        client = Client(cluster)
+        cluster = local_cluster(n)
+        client = Client(cluster, timeout=CONNECT_TIMEOUT)
         if log:
             log(f"local Dask cluster: {n} worker process{'es' if n > 1 else ''}")
     try:
@@ -60,7 +59,36 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
     finally:
         client.close()
         if cluster is not None:
-            cluster.close()
+            close_quietly(cluster)
+
+
+def close_quietly(cluster) -> None:  # noqa: ANN001
+    """Close a local cluster without its shutdown chatter (a worker busy with a case is killed after a
+    few seconds: that is the intent, not a warning for the user)."""
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        cluster.close()
+    finally:
+        logger.setLevel(level)
+
+
+def local_cluster(workers: int, dashboard: bool = True):
+    """A local cluster of ``workers`` single-threaded processes, patient with a loaded machine; its
+    dashboard on port 8787 (or a free one) when bokeh is installed and ``dashboard`` is true."""
+    import dask
+    from distributed import LocalCluster
+
+    # Logs of the scheduler and workers stay quiet (a cluster closed while a case runs logs broken
+    # connections); what matters reaches the user as a case's result or an error here.
+    try:
+        with dask.config.set({"distributed.comm.timeouts.connect": CONNECT_TIMEOUT}):
+            return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                silence_logs=logging.CRITICAL,
+                                dashboard_address=":8787" if dashboard and _has_dashboard() else ":0")
+    except (OSError, TimeoutError) as exc:
+        raise WecCosimError(f"the local Dask cluster of {workers} workers did not start ({exc})") from None
 
 
 def _has_dashboard() -> bool:
