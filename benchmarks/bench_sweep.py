@@ -23,12 +23,14 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import statistics
 import sys
 import tempfile
 import time
 from datetime import date
 from pathlib import Path
 
+import h5py
 from common import write_report
 
 from orchestrator.scenario import load_scenario
@@ -58,20 +60,24 @@ def fresh_cache(folder: Path, name: str) -> None:
     os.environ["WEC_COSIM_CACHE"] = str(folder / name)
 
 
-def bare(s, folder: Path) -> float:
+def bare(s, folder: Path) -> tuple[float, list[float]]:
+    """(total s, per-case s) of the cases run one after another in this process."""
     from orchestrator.results import read_results
 
     plan = plan_sweep(s)
     start = time.perf_counter()
+    each = []
     for case in plan.cases:
         path = folder / f"bare_{case.id}.h5"
+        t0 = time.perf_counter()
         run_scenario(prepare_time_domain(case_scenario(plan, case)), path, progress=False, log=None)
         read_results(path)
-    return time.perf_counter() - start
+        each.append(time.perf_counter() - t0)
+    return time.perf_counter() - start, each
 
 
-def on_cluster(s, folder: Path, workers: int) -> tuple[float, float, int]:
-    """(cluster start-up s, sweep s, failed cases)."""
+def on_cluster(s, folder: Path, workers: int) -> tuple[float, float, int, list[float]]:
+    """(cluster start-up s, sweep s, failed cases, the cases' wall times in the workers s)."""
     from distributed import Client
 
     start = time.perf_counter()
@@ -82,7 +88,10 @@ def on_cluster(s, folder: Path, workers: int) -> tuple[float, float, int]:
     try:
         start = time.perf_counter()
         out = run_sweep(s, folder / f"sweep_{workers}.h5", client=client, progress=False, log=None)
-        return startup, time.perf_counter() - start, out.failed
+        elapsed = time.perf_counter() - start
+        with h5py.File(out.path) as f:
+            in_workers = sorted((str(g.attrs["finished"]), float(g.attrs["wall_time"])) for g in f["cases"].values())
+        return startup, elapsed, out.failed, [w for _, w in in_workers]
     finally:
         client.close()
         close_quietly(cluster)
@@ -101,20 +110,22 @@ def main(argv: list[str] | None = None) -> None:
              f"# cases: cylinder_irregular, Hs 2 m Tp 7 s, {a.cases} seeds x {a.duration:g} s (dt "
              f"{s.simulation.step:g} s), time domain; every case builds its hydro FMU (empty caches)"]
     rows = []
+    inside: dict[int, list[float]] = {}
     with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
         folder = Path(tmp)
         before = load()
         fresh_cache(folder, "bare")
-        t_bare = bare(s, folder)
+        t_bare, each_bare = bare(s, folder)
         rows.append(("bare runs, this process", "-", t_bare, 0, before, load()))
         for workers in (1, 2):
             before = load()
             fresh_cache(folder, f"workers{workers}")
-            startup, t_sweep, failed = on_cluster(s, folder, workers)
+            startup, t_sweep, failed, in_workers = on_cluster(s, folder, workers)
             if failed:
                 raise SystemExit(f"{failed} cases failed on {workers} workers")
             rows.append((f"sweep, {workers} worker{'s' if workers > 1 else ''}", f"{startup:.1f}", t_sweep,
                          startup, before, load()))
+            inside[workers] = in_workers
     n = a.cases
     lines.append(f"{'how':<26}{'start-up s':>11}{'cases s':>9}{'s/case':>8}{'cases/min':>10}"
                  f"{'incl. start-up':>16}   load before -> after")
@@ -124,6 +135,12 @@ def main(argv: list[str] | None = None) -> None:
     t_bare, t_one, t_two = rows[0][2], rows[1][2], rows[2][2]
     lines.append(f"per-case overhead of the sweep (1 worker, start-up excluded) against the bare run: "
                  f"{(t_one - t_bare) / n:+.2f} s ({100 * (t_one / t_bare - 1):+.1f} %)")
+    lines.append(f"  of which inside the worker's case function (run, reading back, summary): "
+                 f"{(sum(inside[1]) - t_bare) / n:+.2f} s; scheduling, transfer and writing the sweep file: "
+                 f"{(t_one - sum(inside[1])) / n:+.2f} s")
+    lines.append(f"  per case, bare: first {each_bare[0]:.2f} s, median of the others "
+                 f"{statistics.median(each_bare[1:]):.2f} s; in the 1-worker sweep: first {inside[1][0]:.2f} s "
+                 f"(the worker's imports), median of the others {statistics.median(inside[1][1:]):.2f} s")
     lines.append(f"speed-up of 2 workers over 1: {t_one / t_two:.2f}")
     write_report(lines, a.out)
 
