@@ -225,3 +225,21 @@ def test_plot_of_a_missing_or_foreign_file_is_one_paragraph(tmp_path) -> None:
         f["x"] = 1.0
     proc = wec_cosim("plot", str(other))
     assert proc.returncode == 2 and "neither a results file" in proc.stderr
+
+
+def test_sweep_progress_shows_done_failed_and_time_left() -> None:
+    import io
+
+    from sweeps.progress import SweepProgress, duration
+
+    stream = io.StringIO()  # not a terminal: one line per report, the first case and the last always
+    bar = SweepProgress(6, 2, stream=stream, interval=3600)
+    bar.update(True)
+    bar.update(False)
+    bar.update(True)
+    assert bar.line().startswith("[" + "#" * 25 + "." * 5 + "] 5/6 cases, 1 failed this run")
+    bar.update(True)
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 2 and "3/6 cases, 0 failed" in lines[0] and "6/6 cases, 1 failed" in lines[1]
+    assert "left ~0s" in lines[1] and "left ~" in lines[0]
+    assert (duration(5), duration(185), duration(7300)) == ("5s", "3m05s", "2h01m")
