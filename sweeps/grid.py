@@ -31,6 +31,7 @@ from typing import Any
 
 from orchestrator import schema
 from orchestrator.errors import ScenarioError
+from orchestrator.input_checks import MAX_SWEEP_POINTS
 from orchestrator.scenario import Scenario, _check
 
 METHODS = ("frequency_domain", "time_domain")
@@ -94,6 +95,11 @@ def plan_sweep(scenario: Scenario) -> SweepPlan:
     plan = SweepPlan(scenario, axes, sw.seeds, sw.method, sw.transient, sw.time_series,
                      fingerprint=fingerprint(scenario))
     keys = [a.key for a in axes]
+    n_cases = math.prod(len(a.values) for a in axes) * sw.seeds
+    if n_cases > MAX_SWEEP_POINTS:
+        raise ScenarioError(f"{scenario.file}: sweep.grid: {' x '.join(str(len(a.values)) for a in axes)} values "
+                            f"and {sw.seeds} seeds make {n_cases} cases (at most {MAX_SWEEP_POINTS}); split the "
+                            "sweep into several files")
     if "waves.seed" in keys and sw.seeds > 1:
         raise ScenarioError(f"{scenario.file}: sweep.seeds = {sw.seeds} and a swept waves.seed contradict each "
                             "other: give either the seeds yourself (sweep.grid) or their number (sweep.seeds)")
