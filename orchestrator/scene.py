@@ -463,15 +463,14 @@ def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress
 
 
 def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
-    """Regular wave periods (waves, steady, sweep) and an irregular sea's peak inside the database's
-    frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    """Regular wave periods (waves, steady; each case of a sweep has its own) and an irregular sea's peak
+    inside the database's frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
     w, f = scenario.waves, scenario.file
     lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
     periods = []
     if w.kind == "regular":
         periods.append(("waves.period", w.period))
     periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
-    periods += [(f"sweep.periods[{i}]", p) for i, p in enumerate(scenario.sweep.periods)]
     if w.kind == "irregular" and w.tp > 0:
         periods.append(("waves.tp", w.tp))
     for key, period in periods:

@@ -251,13 +251,17 @@ def run_scenario(
     in_process: bool = False,
     log=print,
     progress: bool = True,
+    scene: Scene | None = None,
 ) -> RunResult:
-    """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
+    """Run the scenario's co-simulation, write the results file, compare with the exact answer.
+
+    ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
+    """
     sim = scenario.simulation
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress)
+    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     try:
         writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
     except BaseException:
