@@ -32,10 +32,12 @@ import numpy as np
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
+from fmu_base.coupling import coupling_variables
 from fmu_base.slave import VectorSlave, load_spec, matrix_names
 
 from .bemio import read_bemio
 from .drag import ViscousCoefficients
+from .linearisation import CouplingPattern
 from .meshes import read_meshes
 from .model import ForceSwitches, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
@@ -78,8 +80,10 @@ class HydroSlave(VectorSlave):
         self.model: HydroModel | None = None
         self._built_with: tuple | None = None
         self.time = 0.0
+        self.set_default_experiment(self.spec)
         self._register_parameters()
         self._register_body_variables()
+        self._register_coupling()
         self._register_added_mass()
         self._register_report()
         try:  # built now so that the calculated parameters are right from the start
@@ -138,6 +142,25 @@ class HydroSlave(VectorSlave):
             if present:
                 self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
                                description=desc, depends_on=deps)
+
+    def _register_coupling(self) -> None:
+        """Outputs of the linearised force interface (fmu_base.coupling), if the scene lists its pattern."""
+        self.pattern = CouplingPattern.from_json(self.spec["coupling"]) if "coupling" in self.spec else None
+        if self.pattern is None:
+            return
+        coords = [(b, d) for b, ds in zip(self.body_names, self.dofs, strict=True) for d in ds]
+        labels = [6 * i + d + 1 for i, ds in enumerate(self.dofs) for d in ds]
+        nonlinear = self.spec.get("nonlinear", {})
+        position = ("x",) if nonlinear.get("hydrostatics") or nonlinear.get("froude_krylov") else ()
+        viscous = self.spec.get("viscous")
+        velocity = ("v",) if viscous is not None and any(viscous["quadratic"]) and self.switches.viscous else ()
+        deps = {"F0": position + velocity, "F0_rate": ("x",) if nonlinear.get("froude_krylov") else (),
+                "dF_dx": position, "dF_dv": velocity}
+        for group in coupling_variables(coords, labels, self.pattern.stiffness, self.pattern.damping):
+            self.add_reals(group.key, group.names, "output", np.zeros(len(group.names)), unit=group.units,
+                           description=group.description, depends_on=deps[group.key])
+        self._pattern_index = {key: tuple(np.array(getattr(self.pattern, key), dtype=int).reshape(-1, 2).T)
+                               for key in ("stiffness", "damping")}
 
     def _register_added_mass(self) -> None:
         index = [6 * b + d for b, ds in enumerate(self.dofs) for d in ds]
@@ -227,8 +250,15 @@ class HydroSlave(VectorSlave):
 
     def update_outputs(self) -> None:
         assert self.model is not None
-        f = self.model.forces(self.time, self.array("x"), self.array("v"))
+        x, v = self.array("x"), self.array("v")
+        f = self.model.forces(self.time, x, v)
         self.array("F")[:] = f.total
+        if self.pattern is not None:
+            a = self.model.affine(self.time, x, v, self.pattern, f)
+            self.array("F0")[:] = a.constant
+            self.array("F0_rate")[:] = a.rate
+            self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
+            self.array("dF_dv")[:] = a.dfdv[self._pattern_index["damping"]]
         for key, value in (("F_exc", f.excitation), ("F_rad", f.radiation), ("F_hs", f.hydrostatic),
                            ("F_visc", f.viscous)):
             if key in self._arrays:

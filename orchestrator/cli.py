@@ -123,7 +123,7 @@ def cmd_export_ssp(args: argparse.Namespace) -> int:
 
     scene = load_scene(_scenario(args.scenario))
     path = export_ssp(scene, args.out)
-    print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections; "
           f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
     return 0
 

@@ -43,8 +43,10 @@ def bonds(scene: Scene) -> list[Bond]:
     return out
 
 
-def scene_coupling(scene: Scene, mode: str = "mass_matrix", out_dir: Path | None = None) -> Coupling:
-    """Build the FMUs of ``scene`` for added-mass ``mode`` and say how to connect them."""
+def scene_coupling(scene: Scene, mode: str = "mass_matrix", out_dir: Path | None = None,
+                   interface: str = "force") -> Coupling:
+    """Build the FMUs of ``scene`` for added-mass ``mode`` and say how to connect them (``interface``: the
+    force, or the linearised force model, :meth:`orchestrator.scene.Scene.linearised_connections`)."""
     if mode not in ADDED_MASS_MODES:
         raise ValueError(f"added-mass mode must be one of {ADDED_MASS_MODES}")
     fmus = build_scene_fmus(scene, out_dir, multibody=PLAIN_MBD if mode == "interface" else MBD)
@@ -60,4 +62,5 @@ def scene_coupling(scene: Scene, mode: str = "mass_matrix", out_dir: Path | None
             velocity_outputs=[(MBD, f"{b}.v[{d + 1}]") for b, d in coords],
             mode="explicit" if mode == "explicit_force" else "interface",
         )
-    return Coupling(fmus, scene.connections(), links, added, bonds(scene))
+    connections = scene.linearised_connections() if interface == "linearised" else scene.connections()
+    return Coupling(fmus, connections, links, added, bonds(scene))

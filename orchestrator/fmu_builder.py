@@ -7,8 +7,14 @@ so it runs in any FMI host whose Python has numpy, scipy and h5py. The FMU scrip
 modules have distinct names (``wec_hydro``, ``wec_mbd``): PythonFMU cannot load two FMUs whose
 scripts share a module name in one process.
 
+Capability flags say what the FMU does: state get/set and serialisation (always), a variable
+communication step (the multibody FMU and a state-space hydro FMU; the convolution needs whole
+multiples of ``radiation.dt``, so a convolution hydro FMU says false). The PythonFMU 0.7.0 Linux
+binary is patched after the build (:mod:`orchestrator.pythonfmu_patch`: its interpreter state was
+released twice at unload, corrupting the heap at process exit).
+
 Cache: ``$WEC_COSIM_CACHE/fmus`` (default ``~/.cache/wec-cosim/fmus``); the key hashes the
-sources, the specification, the data files and the PythonFMU version.
+sources, the specification, the data files, the PythonFMU version and :data:`BUILD_REVISION`.
 """
 
 from __future__ import annotations
@@ -19,6 +25,8 @@ import os
 import shutil
 import sys
 import tempfile
+import warnings
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,9 +35,12 @@ from pythonfmu.builder import FmuBuilder
 
 from hydro_fmu.bemio import write_bemio
 
+from .pythonfmu_patch import patch_library
 from .scene import HYDRO, MBD, Scene
 
 PLAIN_MBD = "plain_mbd"
+# Changes of how FMUs are put together that the sources do not show (the binary patch): part of the cache key.
+BUILD_REVISION = "2"
 
 ROOT = Path(__file__).resolve().parent.parent
 DATABASE_FILE = "hydro_database.h5"
@@ -109,20 +120,40 @@ def build_fmu(kind: str, spec: dict, data_files: dict[str, Path], out_dir: Path)
             FmuBuilder.build_FMU(
                 script, dest=built, project_files=project,
                 canGetAndSetFMUstate=True, canSerializeFMUstate=True, needsExecutionTool=True,
+                canHandleVariableCommunicationStepSize=_variable_step(kind, spec),
             )
         finally:
             if str(stage) in sys.path:
                 sys.path.remove(str(stage))
             sys.modules.pop(recipe.module, None)
         partial = target.with_name(target.name + f".{os.getpid()}.part")
-        shutil.copy(built, partial)
+        _copy_patched(built, partial)
         os.replace(partial, target)  # atomic: a concurrent build never sees half a file
     return target
+
+
+def _variable_step(kind: str, spec: dict) -> bool:
+    """canHandleVariableCommunicationStepSize: false only for the hydro FMU's convolution (multiples of dt)."""
+    return kind != HYDRO or spec.get("radiation", {}).get("method") == "state_space"
+
+
+def _copy_patched(fmu: Path, target: Path) -> None:
+    """Copy the FMU archive with its linux64 binary patched (:mod:`orchestrator.pythonfmu_patch`)."""
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as dst:
+        for info in src.infolist():
+            data = src.read(info.filename)
+            if info.filename.startswith("binaries/linux64/") and info.filename.endswith(".so"):
+                data, patched = patch_library(data)
+                if not patched:
+                    warnings.warn(f"{info.filename}: not the PythonFMU 0.7.0 binary the exit-crash fix is known for; "
+                                  "left unpatched (hosts may crash at exit, docs/design.md)", stacklevel=2)
+            dst.writestr(info, data)
 
 
 def _key(recipe: FmuRecipe, spec: dict, data_files: dict[str, Path]) -> str:
     h = hashlib.sha256()
     h.update(pythonfmu.__version__.encode())
+    h.update(BUILD_REVISION.encode())
     h.update(json.dumps(spec, sort_keys=True).encode())
     for package in (recipe.package, "fmu_base"):
         for f in sorted((ROOT / package).rglob("*.py")):

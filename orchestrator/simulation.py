@@ -192,14 +192,14 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
                 "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
     else:
-        coupling = scene_coupling(scene, sim.added_mass)
+        coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario),

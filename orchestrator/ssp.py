@@ -57,7 +57,7 @@ def parameters(scene: Scene) -> dict[str, dict[str, float]]:
 
 def _connectors(scene: Scene) -> dict[str, list[tuple[str, str]]]:
     out: dict[str, list[tuple[str, str]]] = {HYDRO: [], MBD: []}
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         out[link.source].append((link.source_variable, "output"))
         out[link.target].append((link.target_variable, "input"))
     for comp, values in parameters(scene).items():
@@ -90,7 +90,7 @@ def system_structure(scene: Scene) -> str:
             binding = SubElement(SubElement(c, _q("ssd:ParameterBindings")), _q("ssd:ParameterBinding"))
             _parameter_set(SubElement(binding, _q("ssd:ParameterValues")), params[comp])
     links = SubElement(system, _q("ssd:Connections"))
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         SubElement(links, _q("ssd:Connection"), {"startElement": link.source, "startConnector": link.source_variable,
                                                  "endElement": link.target, "endConnector": link.target_variable})
     sim = s.simulation
@@ -130,7 +130,7 @@ def osp_system_structure(scene: Scene) -> str:
             for name, value in params[comp].items():
                 SubElement(SubElement(init, "InitialValue", {"variable": name}), "Real", {"value": repr(value)})
     conns = SubElement(root, "Connections")
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         c = SubElement(conns, "VariableConnection")
         SubElement(c, "Variable", {"simulator": link.source, "name": link.source_variable})
         SubElement(c, "Variable", {"simulator": link.target, "name": link.target_variable})
