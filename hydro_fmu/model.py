@@ -293,7 +293,8 @@ class HydroModel:
         rate = self.excitation.rate(t) if self.excitation is not None else np.zeros(n)
         if self.nonlinear and o.nonlinear_froude_krylov and sw.excitation:
             delta = 1e-4
-            rate = rate + (self._pressure_forces(t + delta, x)[1] - self._pressure_forces(t - delta, x)[1]) / (2 * delta)
+            ahead, behind = self._pressure_forces(t + delta, x)[1], self._pressure_forces(t - delta, x)[1]
+            rate = rate + (ahead - behind) / (2 * delta)
         if self.radiation is not None:
             d = self.radiation.instantaneous_damping()
             dfdv -= d

@@ -123,9 +123,19 @@ def cmd_export_ssp(args: argparse.Namespace) -> int:
 
     scene = load_scene(_scenario(args.scenario))
     path = export_ssp(scene, args.out)
-    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections; "
-          f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections "
+          f"(linearised force interface); run it with fmpy.ssp.simulation.simulate_ssp, libcosimpy or a C host "
+          f"(docs/hosts/)")
     return 0
+
+
+def cmd_host_env(args: argparse.Namespace) -> int:
+    from .host_environment import main_host_env
+
+    command = list(args.command_line)
+    if command and command[0] == "--":
+        command = command[1:]
+    return main_host_env(command, "json" if args.json else "shell")
 
 
 def cmd_resume(args: argparse.Namespace) -> int:
@@ -202,6 +212,12 @@ def parser() -> argparse.ArgumentParser:
     e.add_argument("scenario")
     e.add_argument("out", help="output .ssp file")
     e.set_defaults(func=cmd_export_ssp)
+    v = sub.add_parser("host-env", help="print (or run a command with) the environment our FMUs need in a C/C++ "
+                                        "host: LD_PRELOAD of libpython, PYTHONHOME, PYTHONPATH (docs/hosts/c.md)")
+    v.add_argument("--json", action="store_true", help="print JSON instead of shell export lines")
+    v.add_argument("command_line", nargs=argparse.REMAINDER, metavar="-- COMMAND ...",
+                   help="run COMMAND with that environment instead of printing it")
+    v.set_defaults(func=cmd_host_env)
     c = sub.add_parser("resume", help="continue a run from the last checkpoint next to its results file")
     c.add_argument("results")
     c.add_argument("--quiet", action="store_true", help="no progress display")

@@ -3,7 +3,7 @@
 * ``mass_matrix`` (mode a, default): our multibody FMU carries A_inf in its mass matrix (copied
   from the hydro FMU's calculated parameters at initialisation); only the radiation memory,
   excitation and hydrostatic force is exchanged.
-* ``explicit_force`` (mode b): the same multibody FMU with its A_inf parameters left at zero; the
+* ``explicit_force`` (mode b): the same multibody FMU with its A_inf parameters set to zero; the
   master adds -A_inf a_prev to the force input, a_prev the previous step's mean acceleration.
   Unstable whenever A_inf exceeds the structural mass; kept to show why.
 * ``interface`` (mode c): a third-party-style multibody FMU that cannot take A_inf
@@ -13,7 +13,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .fmu_builder import PLAIN_MBD, build_scene_fmus
@@ -32,6 +32,7 @@ class Coupling:
     parameter_links: list[Connection]
     added_mass: AddedMassForce | None
     bonds: list[Bond]
+    parameters: dict[str, dict[str, float]] = field(default_factory=dict)
 
 
 def bonds(scene: Scene) -> list[Bond]:
@@ -63,4 +64,7 @@ def scene_coupling(scene: Scene, mode: str = "mass_matrix", out_dir: Path | None
             mode="explicit" if mode == "explicit_force" else "interface",
         )
     connections = scene.linearised_connections() if interface == "linearised" else scene.connections()
-    return Coupling(fmus, connections, links, added, bonds(scene))
+    # Mode b: the multibody FMU's A_inf start values are the scene's (right on its own): set them to zero.
+    labels = [k + 1 for k in scene.hydro_index()]
+    parameters = {MBD: {f"A_inf[{k},{l}]": 0.0 for k in labels for l in labels}} if mode == "explicit_force" else {}
+    return Coupling(fmus, connections, links, added, bonds(scene), parameters)

@@ -688,10 +688,10 @@ def _check_simulation(s: Scenario) -> None:
     if sim.interface == "linearised" and (sim.master != "jacobi" or sim.extrapolation != 0
                                           or sim.added_mass != "mass_matrix" or sim.adaptive.enabled):
         raise ScenarioError(
-            f"{f}: simulation.interface = 'linearised' hands the multibody FMU an affine force model with its own time "
-            f"rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass and a fixed "
-            f"step (no [simulation.adaptive]) "
-            f"(got {sim.master!r}, {sim.extrapolation}, {sim.added_mass!r})")
+            f"{f}: simulation.interface = 'linearised' hands the multibody FMU an affine force model with its own "
+            f"time rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass "
+            f"and a fixed step (no [simulation.adaptive]) (got {sim.master!r}, {sim.extrapolation}, "
+            f"{sim.added_mass!r})")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "

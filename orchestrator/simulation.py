@@ -203,7 +203,7 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario),
-                             observe, coupling.added_mass)
+                             observe, coupling.added_mass, coupling.parameters)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
     if sim.adaptive.enabled:

@@ -4,7 +4,8 @@
 
 * ``SystemStructure.ssd``: components ``hydro`` and ``mbd`` (sources ``resources/*.fmu``), a
   connector for every connected variable and bound parameter (with its ``ssc:Real`` type), the
-  connections (motion mbd -> hydro, force hydro -> mbd), and the parameter bindings inline
+  connections (motion mbd -> hydro; the linearised force interface hydro -> mbd: ``F0``,
+  ``F0_rate``, ``dF_dx``, ``dF_dv``, see ``hydro_fmu.linearisation``), and the parameter bindings inline
   (``ssd:ParameterValues``): the infinite-frequency added mass ``A_inf[k,l]`` the multibody FMU
   must carry in its mass matrix (what our master copies from the hydro FMU's calculated parameters).
   ``ssd:DefaultExperiment`` holds the start and stop time and, as an OSP annotation
@@ -18,7 +19,9 @@
 
 The exported system is the added-mass mode (a) coupling; modes (b) and (c) need a master that
 changes the force input and are not exportable. Generic hosts run a plain fixed-step Jacobi with
-zero-order hold (see :class:`orchestrator.masters.SimpleJacobiMaster`).
+zero-order hold (see :class:`orchestrator.masters.SimpleJacobiMaster`): with the linearised
+interface that is second order and stable (docs/masters.md, "Plain fixed-step hosts"); the
+parameter set is optional (the FMUs' start values are the same).
 """
 
 from __future__ import annotations
