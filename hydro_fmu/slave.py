@@ -7,6 +7,9 @@ active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects
 * outputs ``b.F[i]`` total hydrodynamic force (N, N m) and the parts that are switched on:
   ``b.F_exc[i]``, ``b.F_rad[i]`` (radiation memory only), ``b.F_hs[i]``, ``b.F_visc[i]``;
   ``wave.elevation`` at the origin;
+* outputs of the linearised force interface (:mod:`hydro_fmu.linearisation`, :mod:`fmu_base.coupling`):
+  ``b.F0[i]``, ``b.F0_rate[i]``, ``dF_dx[k,l]``, ``dF_dv[k,l]`` (the pattern's entries only), for
+  plain fixed-step hosts;
 * calculated parameters ``A_inf[k,l]``: infinite-frequency added mass between scene degrees of
   freedom k and l (k = 6 (body index) + i), to be copied into the multibody FMU; and the
   radiation model's report ``radiation.order``, ``radiation.fit_error``,
@@ -19,7 +22,7 @@ active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects
 The scene (bodies, active DOFs, sea, methods) is fixed at build time in ``scene_spec.json``, the
 database in the BEMIO file next to it, and imported wave data and hull meshes beside them, all in
 the FMU's resources. The model is built when the FMU is instantiated and rebuilt at the end of
-initialisation if a parameter changed.
+initialisation if a parameter changed. ``DefaultExperiment``: the scenario's duration and step.
 """
 
 from __future__ import annotations
@@ -271,6 +274,10 @@ class HydroSlave(VectorSlave):
         except ValueError as exc:
             self.log(str(exc), Fmi2Status.error)
             return False
-        self.time = current_time + step_size
+        # The FMU's own clock (start + the sum of the steps), not the host's current_time + step_size: hosts
+        # compute the communication point differently (fmpy adds the step, libcosim counts nanoseconds, a C loop
+        # multiplies), and a last-bit difference in the excitation's time must not make the answer depend on the
+        # host (advance() has checked that current_time agrees with this clock).
+        self.time += step_size
         self.mark_outputs_stale()
         return True

@@ -4,15 +4,18 @@ for the ``linear`` formulation, :class:`mbd_fmu.simulator.MultibodySimulator` fo
 Variables (see ``docs/fmu_variables.md``), for each body ``b`` and active degree of freedom
 ``i`` (1 surge ... 6 yaw), and each PTO ``p``:
 
-* inputs ``b.F[i]`` external force (N, N m), e.g. the hydrodynamic force;
+* inputs ``b.F[i]`` external force (N, N m) held over the step, e.g. the hydrodynamic force;
+* inputs of the linearised force interface (:mod:`fmu_base.coupling`, start 0): ``b.F0[i]``,
+  ``b.F0_rate[i]`` on the hydrodynamic coordinates, ``dF_dx[k,l]``, ``dF_dv[k,l]``: the force
+  F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v is added over the step and integrated implicitly;
 * outputs ``b.x[i]`` displacement from equilibrium (m, rad), ``b.v[i]`` velocity; ``p.force``
   (force on the body, N or N m) and ``p.power`` (absorbed power, W). No output depends directly
   on an input (no direct feedthrough);
 * inputs ``p.stiffness``, ``p.damping``, ``p.force_command`` (PTO law F = -k x - c v + u; start
   values from the scenario; a controller may change them between steps);
 * parameters ``b.mass``, ``b.inertia[j,k]``, ``b.x0[i]``, ``b.v0[i]``, and ``A_inf[k,l]``
-  (infinite-frequency added mass in the scene's hydrodynamic DOF numbering, copied from the
-  hydrodynamics FMU's calculated parameters of the same name).
+  (infinite-frequency added mass in the scene's hydrodynamic DOF numbering; start values the
+  scene's, equal to the hydrodynamics FMU's calculated parameters of the same name).
 
 Nonlinear formulations add outputs (none with direct feedthrough): ``b.pose[1..6]`` (cg world
 position, rotation vector from equilibrium), ``p.position``, ``p.velocity`` (the PTO's

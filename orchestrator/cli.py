@@ -107,6 +107,8 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
         target = out / f"{scene.scenario.name}_{kind}.fmu"
         shutil.copy(path, target)
         print(f"{kind}: {target}")
+    print("connect them as docs/fmu_variables.md says (the linearised force interface: x, v -> hydro; F0, F0_rate, "
+          "dF_dx, dF_dv -> mbd); in a C/C++ host use the environment of `wec-cosim host-env` (docs/hosts/)")
     return 0
 
 

@@ -200,6 +200,10 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
         links: list = []
     else:
         coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
+        if not sim.resolve_feedthrough and sim.interface == "force" and log is not None:
+            log("warning: resolve_feedthrough = false with the force interface is what a plain FMI host does with "
+                "the force connected: first order, and unstable for light bodies (docs/hosts/README.md); "
+                "simulation.interface = 'linearised' is second order under the same host")
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario),
