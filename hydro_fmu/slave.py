@@ -63,12 +63,26 @@ WAVE_PARAMETERS = {
 }
 
 
+class StepClock:
+    """Communication points t = t_a + k h counted from the last change of step (no accumulated round-off,
+    the same in every host that passes the same step sizes)."""
+
+    def __init__(self, start: float = 0.0) -> None:
+        self.anchor, self.step, self.count = float(start), 0.0, 0
+
+    def advance(self, h: float) -> float:
+        if h != self.step:
+            self.anchor, self.step, self.count = self.anchor + self.count * self.step, float(h), 0
+        self.count += 1
+        return self.anchor + self.count * self.step
+
+
 class HydroSlave(VectorSlave):
     """Hydrodynamic forces of a scene's bodies (Cummins equation, linear potential flow)."""
 
     author = "wec-cosim"
     description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics, drag"
-    state_attributes = ("model", "time")
+    state_attributes = ("model", "time", "clock")
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -83,6 +97,7 @@ class HydroSlave(VectorSlave):
         self.model: HydroModel | None = None
         self._built_with: tuple | None = None
         self.time = 0.0
+        self.clock = StepClock()
         self.set_default_experiment(self.spec)
         self._register_parameters()
         self._register_body_variables()
@@ -239,6 +254,7 @@ class HydroSlave(VectorSlave):
     # ------------------------------------------------------------------ FMI life cycle
     def setup_experiment(self, start_time: float, stop_time: float | None, tolerance: float | None) -> None:
         self.time = float(start_time)
+        self.clock = StepClock(self.time)
 
     def exit_initialization_mode(self) -> None:
         try:
@@ -274,10 +290,10 @@ class HydroSlave(VectorSlave):
         except ValueError as exc:
             self.log(str(exc), Fmi2Status.error)
             return False
-        # The FMU's own clock (start + the sum of the steps), not the host's current_time + step_size: hosts
-        # compute the communication point differently (fmpy adds the step, libcosim counts nanoseconds, a C loop
-        # multiplies), and a last-bit difference in the excitation's time must not make the answer depend on the
-        # host (advance() has checked that current_time agrees with this clock).
-        self.time += step_size
+        # The FMU's own clock, not the host's current_time + step_size: hosts compute the communication point
+        # differently (fmpy adds the step, libcosim counts nanoseconds, a C loop multiplies), and a last-bit
+        # difference in the excitation's time must not make the answer depend on the host (advance() has
+        # checked that current_time agrees with this clock).
+        self.time = self.clock.advance(step_size)
         self.mark_outputs_stale()
         return True
