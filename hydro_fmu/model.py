@@ -298,7 +298,7 @@ class HydroModel:
         if self.radiation is not None:
             d = self.radiation.instantaneous_damping()
             dfdv -= d
-            known = self.radiation.force(v) - d @ v  # memory of the committed velocities (mu, not -mu)
+            known = -f.radiation - d @ v  # memory of the committed velocities (mu = -F_rad), without v's share
             rate = rate - self._memory_rate.update(t, known)
         if self.viscous is not None:
             dfdv += np.diag(self.viscous.tangent(v))
