@@ -137,6 +137,8 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
         target = out / f"{scene.scenario.name}_{kind}.fmu"
         shutil.copy(path, target)
         print(f"{kind}: {target}")
+    print("connect them as docs/fmu_variables.md says (the linearised force interface: x, v -> hydro; F0, F0_rate, "
+          "dF_dx, dF_dv -> mbd); in a C/C++ host use the environment of `wec-cosim host-env` (docs/hosts/)")
     return 0
 
 
@@ -157,9 +159,19 @@ def cmd_export_ssp(args: argparse.Namespace) -> int:
     _out(args.out, kind="file")
     scene = load_scene(scenario, progress=True)
     path = export_ssp(scene, args.out)
-    print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
-          f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections "
+          f"(linearised force interface); run it with fmpy.ssp.simulation.simulate_ssp, libcosimpy or a C host "
+          f"(docs/hosts/)")
     return 0
+
+
+def cmd_host_env(args: argparse.Namespace) -> int:
+    from .host_environment import main_host_env
+
+    command = list(args.command_line)
+    if command and command[0] == "--":
+        command = command[1:]
+    return main_host_env(command, "json" if args.json else "shell")
 
 
 def cmd_resume(args: argparse.Namespace) -> int:
@@ -279,6 +291,12 @@ def parser() -> argparse.ArgumentParser:
     e.add_argument("scenario")
     e.add_argument("out", help="output .ssp file")
     e.set_defaults(func=cmd_export_ssp)
+    v = sub.add_parser("host-env", help="print (or run a command with) the environment our FMUs need in a C/C++ "
+                                        "host: LD_PRELOAD of libpython, PYTHONHOME, PYTHONPATH (docs/hosts/c.md)")
+    v.add_argument("--json", action="store_true", help="print JSON instead of shell export lines")
+    v.add_argument("command_line", nargs=argparse.REMAINDER, metavar="-- COMMAND ...",
+                   help="run COMMAND with that environment instead of printing it")
+    v.set_defaults(func=cmd_host_env)
     c = sub.add_parser("resume", help="continue a run from the last checkpoint next to its results file")
     c.add_argument("results")
     c.add_argument("--quiet", action="store_true", help="no progress display")

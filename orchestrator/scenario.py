@@ -84,6 +84,12 @@ class SimulationSection:
         doc="jacobi: set the motion at each communication point into the hydro FMU before reading its force; "
             "`false` reads every output right after the step, as generic FMI hosts do (fmpy's SSP simulator, "
             "libcosim fixedStep; first order, needs extrapolation = 0)")
+    interface: str = option(
+        "force", choices=("force", "linearised"),
+        doc="what the hydro FMU hands the multibody FMU: `force`, the force (held or extrapolated by the master); "
+            "`linearised`, the affine model F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v that the multibody FMU "
+            "integrates implicitly (second order and stable under any fixed-step host, the coupling `export-ssp` "
+            "writes; jacobi with extrapolation = 0 only: the model carries its own time rate)")
     added_mass: str = option(
         "mass_matrix", choices=ADDED_MASS,
         doc="`mass_matrix`: A_inf in the multibody mass matrix (stable, default); `explicit_force`: A_inf applied "
@@ -719,6 +725,13 @@ def _check_simulation(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "
             f"it needs master = 'jacobi' and extrapolation = 0 (got {sim.master!r}, {sim.extrapolation})")
+    if sim.interface == "linearised" and (sim.master != "jacobi" or sim.extrapolation != 0
+                                          or sim.added_mass != "mass_matrix" or sim.adaptive.enabled):
+        raise ScenarioError(
+            f"{f}: simulation.interface = 'linearised' hands the multibody FMU an affine force model with its own "
+            f"time rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass "
+            f"and a fixed step (no [simulation.adaptive]) (got {sim.master!r}, {sim.extrapolation}, "
+            f"{sim.added_mass!r})")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "

@@ -211,18 +211,22 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
                 "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
     else:
-        coupling = scene_coupling(scene, sim.added_mass)
+        coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
+        if not sim.resolve_feedthrough and sim.interface == "force" and log is not None:
+            log("warning: resolve_feedthrough = false with the force interface is what a plain FMI host does with "
+                "the force connected: first order, and unstable for light bodies (docs/hosts/README.md); "
+                "simulation.interface = 'linearised' is second order under the same host")
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario, scene),
-                             observe, coupling.added_mass)
+                             observe, coupling.added_mass, coupling.parameters)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
     if sim.adaptive.enabled:
