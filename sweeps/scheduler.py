@@ -117,7 +117,14 @@ def results_on_dask(client, tasks: Iterable[CaseTask]) -> Iterator[CaseResult]:
                 yield CaseResult(task.case.id, "failed", error=f"{type(exc).__name__}: {exc}")
             future.release()
     finally:
-        client.cancel([f for f in futures if not f.done()])
+        # the generator may be closed (garbage-collected) after an interrupt has already closed the client
+        # and its event loop: nothing is left to cancel then
+        pending = [f for f in futures if not f.done()]
+        if pending and client.status == "running":
+            try:
+                client.cancel(pending)
+            except (RuntimeError, OSError):
+                pass
 
 
 def results_in_process(tasks: Iterable[CaseTask]) -> Iterator[CaseResult]:
