@@ -30,7 +30,7 @@ from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mes
 
 # Bump when the way a database is computed changes: invalidates every cached file.
 BEM_CACHE_VERSION = 1
-SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "axisymmetric", "mesh")
 
 _logger = logging.getLogger(__name__)
 
@@ -42,10 +42,13 @@ class BodyGeometry:
     Attributes:
         shape: ``vertical_cylinder`` (``radius``, ``draft``; local origin on the axis at the
             waterline), ``sphere`` (``radius``; origin at the centre), ``box`` (``size`` =
-            length, width, height; origin at the centre) or ``mesh`` (``mesh_file``; the file's
-            own coordinates).
+            length, width, height; origin at the centre), ``axisymmetric`` (``profile``: the
+            generating curve revolved about the local z axis, see :func:`mesh_of_revolution`) or
+            ``mesh`` (``mesh_file``; the file's own coordinates).
         position: world coordinates (m) of the local origin.
         rotation_deg: rotation about the local origin, about the fixed x, then y, then z axis (deg).
+        profile: ``axisymmetric``: ``(r, z)`` points (m) of the hull's cross-section in a meridian
+            half-plane, in order along the hull surface.
         panel_size: target panel edge (m) for primitives; ignored for mesh files.
         lid: put a lid mesh on the waterplane of a surface-piercing body to remove irregular
             frequencies (not needed for thin discs, whose irregular frequencies are very high).
@@ -60,6 +63,7 @@ class BodyGeometry:
     panel_size: float = 0.5
     lid: bool = True
     rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    profile: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
@@ -125,6 +129,8 @@ def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
         item = asdict(body)
         if not any(body.geometry.rotation_deg):  # keys of databases made before rotations existed stay valid
             item["geometry"].pop("rotation_deg")
+        if not body.geometry.profile:  # nor do profiles change the keys of other shapes
+            item["geometry"].pop("profile")
         if body.geometry.shape == "mesh":
             item["geometry"]["mesh_file"] = _file_digest(Path(body.geometry.mesh_file))
         items.append(item)
@@ -328,6 +334,8 @@ def _primitive_mesh(geometry: BodyGeometry):
             raise HydroDatabaseError("sphere needs a positive radius")
         n = max(8, math.ceil(math.pi * g.radius / ps))
         mesh = cpt.mesh_sphere(radius=g.radius, center=(0.0, 0.0, 0.0), resolution=(n, 2 * n))
+    elif g.shape == "axisymmetric":
+        mesh = mesh_of_revolution(g.profile, ps)
     elif g.shape == "box":
         if min(g.size) <= 0:
             raise HydroDatabaseError("box needs three positive sizes (length, width, height)")
@@ -335,6 +343,56 @@ def _primitive_mesh(geometry: BodyGeometry):
         mesh = cpt.mesh_parallelepiped(size=tuple(g.size), center=(0.0, 0.0, 0.0), resolution=res)
     else:
         raise HydroDatabaseError(f"unknown primitive shape {g.shape!r}")
+    return mesh
+
+
+def mesh_of_revolution(profile, panel_size: float):
+    """Capytaine mesh of the surface swept by revolving ``profile`` about the z axis.
+
+    ``profile``: ``(r, z)`` points (m, r >= 0) along the hull's cross-section in a meridian
+    half-plane, e.g. for a floating annulus: the outer wall from above the waterline down, the
+    bottom inwards, the inner wall up. Each segment is split into pieces no longer than
+    ``panel_size`` and revolved in its own number of sectors, the smallest that keeps arcs at its
+    largest radius no longer than ``panel_size`` (even, at least 12): a slender column under a wide plate
+    keeps panels of about the same size on both (segments meet without sharing vertices, which
+    a constant-panel BEM does not need). Points on the axis close the surface with triangles. The
+    vertices lie at ``r sqrt(phi / sin phi)`` (``phi`` the sector angle), so each horizontal section
+    of the faceted surface has the area of the true circle: volumes and waterplane areas, hence
+    the hydrostatics of vertical walls and flat bottoms, are exact for any number of sectors.
+    Normals point out of the body whichever way the profile is traversed (the orientation that
+    gives the immersed part a positive volume is kept).
+    """
+    import capytaine as cpt
+
+    pts = np.asarray(profile, dtype=float).reshape(-1, 2)
+    if len(pts) < 2 or np.any(pts[:, 0] < 0) or not np.all(np.isfinite(pts)):
+        raise HydroDatabaseError("axisymmetric profile needs at least two (r, z) points with r >= 0")
+    vertices, faces = [], []
+    for a, b in zip(pts[:-1], pts[1:], strict=True):
+        n_s = max(1, math.ceil(float(np.hypot(*(b - a))) / panel_size))
+        n_t = 2 * max(6, math.ceil(math.pi * max(a[0], b[0]) / panel_size))  # even: vertices on y = 0
+        phi = 2 * math.pi / n_t
+        meridian = a + (b - a) * (np.arange(n_s + 1)[:, None] / n_s)
+        theta = phi * np.arange(n_t)
+        r = meridian[:, 0] * math.sqrt(phi / math.sin(phi))
+        v = np.stack([np.outer(r, np.cos(theta)), np.outer(r, np.sin(theta)),
+                      np.repeat(meridian[:, 1:], n_t, axis=1)], axis=-1).reshape(-1, 3)
+        base = sum(len(x) for x in vertices)
+        for i in range(n_s):
+            for j in range(n_t):
+                p, q = base + i * n_t + j, base + i * n_t + (j + 1) % n_t
+                s, t = q + n_t, p + n_t
+                if meridian[i, 0] == 0.0:
+                    faces.append([p, s, t, t])
+                elif meridian[i + 1, 0] == 0.0:
+                    faces.append([p, q, s, s])
+                else:
+                    faces.append([p, q, s, t])
+        vertices.append(v)
+    vertices, faces = np.concatenate(vertices), np.array(faces, dtype=int)
+    mesh = cpt.Mesh(vertices=vertices, faces=faces)
+    if mesh.immersed_part().volume < 0:
+        mesh = cpt.Mesh(vertices=vertices, faces=faces[:, [0, 3, 2, 1]])
     return mesh
 
 
