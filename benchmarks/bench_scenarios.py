@@ -24,20 +24,24 @@ from common import write_report
 
 from orchestrator.scenario import load_scenario
 from orchestrator.simulation import run_scenario
+from orchestrator.sweep import apply_overrides
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# (scenario file under scenarios/, what it is). Add a line per bundled device scenario.
-SCENARIOS: list[tuple[str, str]] = [
+# (scenario file under scenarios/, what it is[, `--set` overrides]). Add a line per bundled device scenario.
+SCENARIOS: list[tuple] = [
     ("cylinder_regular.toml", "one float, heave, regular waves"),
     ("cylinder_irregular.toml", "one float, heave, irregular sea"),
     ("hinge_barge.toml", "seed 003 two-body hinge barge, index-3"),
+    ("rm3_regular.toml", "RM3 two bodies, MoorDyn lines, regular waves"),
+    ("rm3_irregular.toml", "RM3, MoorDyn lines, Pierson-Moskowitz sea"),
+    ("rm3_irregular.toml", "RM3, quasi-static catenary lines, same sea", ("mooring_lines.model=quasi_static",)),
 ]
 
 
-def run_once(path: Path, folder: Path) -> tuple[float, float, float]:
+def run_once(path: Path, folder: Path, overrides: tuple[str, ...] = ()) -> tuple[float, float, float]:
     """(whole-run wall s, stepping-loop wall s, simulated s) of one run."""
-    scenario = load_scenario(path)
+    scenario = apply_overrides(load_scenario(path), list(overrides))
     start = time.perf_counter()
     result = run_scenario(scenario, folder / f"{path.stem}.h5", progress=False, log=None)
     return time.perf_counter() - start, result.wall_time, result.simulated_time
@@ -56,10 +60,11 @@ def main(argv: list[str] | None = None) -> None:
              f"{'scenario':<28}{'simulated s':>12}{'run s med':>10}{'run s min':>10}{'loop s med':>11}"
              f"{'RTF (loop, med)':>16}  what"]
     with tempfile.TemporaryDirectory() as tmp:
-        for name, what in SCENARIOS:
+        for name, what, *rest in SCENARIOS:
             if a.only and name not in a.only:
                 continue
-            runs = [run_once(ROOT / "scenarios" / name, Path(tmp)) for _ in range(a.repeat)]
+            overrides = rest[0] if rest else ()
+            runs = [run_once(ROOT / "scenarios" / name, Path(tmp), overrides) for _ in range(a.repeat)]
             whole = [r[0] for r in runs]
             loop = [r[1] for r in runs]
             simulated = runs[0][2]

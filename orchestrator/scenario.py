@@ -261,6 +261,11 @@ class GeometrySection:
         doc="axisymmetric: [r, z] points of the hull's cross-section in a meridian half-plane, in order along the "
             "surface (e.g. an annular float: outer wall from above the waterline down, bottom inwards, inner wall "
             "up), revolved about the shape's vertical axis; faceted so that volumes and waterplane areas are exact")
+    dry_segments: list[int] = option(
+        factory=list,
+        doc="axisymmetric: indices (0 = first) of profile segments in contact with another body, e.g. a float's "
+            "bore on a spar's column: they close the body for its hydrostatics but are not wetted (left out of "
+            "the BEM mesh); give the neighbour's hull there as dry too (no water gap)")
     position: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="m",
         doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
@@ -573,6 +578,7 @@ class Scenario:
     sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
+    _overrides: list[str] = field(default_factory=list, init=False, repr=False)  # `wec-cosim run --set` items
 
     @property
     def file(self) -> Path:
@@ -950,6 +956,9 @@ def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
     if g.shape == "axisymmetric" and (len(g.profile) < 2 or any(r < 0 for r, _ in g.profile)):
         raise ScenarioError(f"{where}: geometry shape 'axisymmetric' needs profile = [[r, z], ...] with at least two "
                             "points and r >= 0")
+    if any(not 0 <= i < len(g.profile) - 1 for i in g.dry_segments):
+        raise ScenarioError(f"{where}: geometry dry_segments {g.dry_segments} must be indices of profile segments "
+                            f"(0 to {len(g.profile) - 2})")
     if g.shape == "box" and min(g.size) <= 0:
         raise ScenarioError(f"{where}: geometry shape 'box' needs size = [length, width, height], all positive")
     if g.shape == "mesh":

@@ -55,7 +55,8 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)))
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)),
+                                dry_segments=tuple(g.dry_segments))
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(

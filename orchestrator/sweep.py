@@ -28,8 +28,9 @@ from .errors import ScenarioError
 from .scenario import DOFS, Scenario, _check
 
 
-def set_key(scenario: Scenario, path: str, value: float) -> Scenario:
-    """A copy of ``scenario`` with the key at ``path`` set to ``value``, validated again."""
+def set_key(scenario: Scenario, path: str, value: float | str, *, what: str = "sweep.parameter") -> Scenario:
+    """A copy of ``scenario`` with the key at ``path`` set to ``value`` (a number, or one of a text key's
+    choices), validated again; ``what`` names the setting in error messages."""
     s = copy.deepcopy(scenario)
     parts = path.split(".")
     target: object = s
@@ -44,17 +45,43 @@ def set_key(scenario: Scenario, path: str, value: float) -> Scenario:
         field = {f.name: f for f in dataclasses.fields(target)}[key]
     except (AttributeError, StopIteration, KeyError, TypeError):
         raise ScenarioError(
-            f"{scenario.file}: sweep.parameter {path!r} names no numeric key; use `section.key` or "
+            f"{scenario.file}: {what} {path!r} names no {'key' if isinstance(value, str) else 'numeric key'}; "
+            "use `section.key` or "
             "`ptos.<name>.<key>` / `bodies.<name>.<key>`") from None
-    if not isinstance(getattr(target, key), (int, float)) or isinstance(getattr(target, key), bool):
-        raise ScenarioError(f"{scenario.file}: sweep.parameter {path!r} is not a numeric key")
+    current = getattr(target, key)
+    choices = field.metadata.get("choices")
+    if isinstance(current, str) and choices and isinstance(value, str):
+        if value not in choices:
+            raise ScenarioError(f"{scenario.file}: {what} {path}: {value!r} is not one of {', '.join(choices)}")
+        setattr(target, key, value)
+        _check(s)
+        return s
+    if not isinstance(current, (int, float)) or isinstance(current, bool):
+        raise ScenarioError(f"{scenario.file}: {what} {path!r} is not a numeric key"
+                            + (" or a key with choices" if isinstance(value, str) else ""))
+    try:
+        value = float(value)
+    except ValueError:
+        raise ScenarioError(f"{scenario.file}: {what} {path}: {value!r} is not a number") from None
     check = field.metadata.get("check")
     problem = check(value) if check else None
     if problem or not math.isfinite(value):
-        raise ScenarioError(f"{scenario.file}: sweep.values: {path} {problem or 'must be finite'} (got {value})")
-    setattr(target, key, type(getattr(target, key))(value))
+        raise ScenarioError(f"{scenario.file}: {what}: {path} {problem or 'must be finite'} (got {value})")
+    setattr(target, key, type(current)(value))
     _check(s)
     return s
+
+
+def apply_overrides(scenario: Scenario, items: list[str]) -> Scenario:
+    """``scenario`` with ``KEY=VALUE`` items set (``wec-cosim run --set``), recorded in ``_overrides`` so that
+    results files (and ``wec-cosim resume``) know the scene that ran."""
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise ScenarioError(f"--set {item!r}: write KEY=VALUE, e.g. mooring_lines.model=quasi_static")
+        scenario = set_key(scenario, key.strip(), value.strip(), what="--set")
+        scenario._overrides.append(f"{key.strip()}={value.strip()}")
+    return scenario
 
 
 def _points(scenario: Scenario) -> tuple[list[float], list[float]]:

@@ -1,0 +1,159 @@
+"""The RM3 scenarios (scenarios/rm3_*.toml): the moored two-body point absorber with MoorDyn lines inside
+the multibody FMU, as FMI hosts and our masters run it: equilibrium and fairlead tensions at rest against
+the closed-form elastic catenary, rollback of the FMU state, checkpoint and resume, an iterative master;
+scenario validation of the mooring-line keys. The long runs (surge decay with both mooring models, waves)
+are benchmarks and slow tests."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mbd_fmu.moorings import catenary_tensions
+from orchestrator.checkpoints import checkpoint_path
+from orchestrator.fmu_builder import build_scene_fmus
+from orchestrator.masters import JacobiMaster
+from orchestrator.results import read_results
+from orchestrator.scenario import load_scenario
+from orchestrator.scene import MBD, load_scene
+from orchestrator.simulation import Recorder, make_components, resume_run, run_scenario
+from orchestrator.sweep import apply_overrides
+
+from .conftest import SCENARIOS
+from .test_scenario import assert_rejected, write
+
+LINES = ("line1", "line2", "line3")
+FORCES = [f"{n}.force[{i}]" for n in LINES for i in (1, 2, 3)]
+
+
+def scenario(name: str = "rm3_surge_decay", **overrides: str):
+    s = load_scenario(SCENARIOS / f"{name}.toml")
+    return apply_overrides(s, [f"{k}={v}" for k, v in overrides.items()])
+
+
+@pytest.fixture(scope="module")
+def at_rest():
+    """The decay scene released from rest (no offset): a Jacobi master through fmpy."""
+    s = scenario()
+    for b in s.bodies:
+        b.initial_displacement = [0.0] * 6
+    scene = load_scene(s, log=None)
+    return scene, build_scene_fmus(scene)
+
+
+@pytest.fixture(scope="module")
+def decay():
+    """The decay scene as bundled: released from 5 m surge."""
+    scene = load_scene(scenario(), log=None)
+    return scene, build_scene_fmus(scene)
+
+
+def start(scene, fmus, duration: float = 10.0) -> JacobiMaster:
+    master = JacobiMaster(make_components(fmus), scene.connections(), 2, Recorder.observed(scene))
+    master.initialize(0.0, duration, scene.parameter_links())
+    return master
+
+
+def line_forces(master) -> np.ndarray:
+    comp = master.components[MBD]
+    return np.array(comp.get_reals(comp.port(FORCES))).reshape(3, 3)
+
+
+def test_rm3_rests_in_equilibrium_with_catenary_tensions(at_rest) -> None:
+    """Mass, hydrostatics and mooring balance at the start: after 5 s at rest the bodies have moved less than
+    1 mm and each fairlead force equals the closed-form elastic catenary's (length, weight, EA, anchor, fairlead
+    and sea bed of the scenario) within 1 %."""
+    scene, fmus = at_rest
+    master = start(scene, fmus)
+    h = scene.scenario.simulation.step
+    for k in range(1, 51):
+        master.step(h, k * h)
+    forces = line_forces(master)
+    motion = np.abs(master.outputs[MBD]).max()
+    master.terminate()
+    for e, f in zip(scene.scenario.forces, forces, strict=True):
+        d = np.subtract(e.fairlead, e.anchor)
+        h_qs, v_qs = catenary_tensions(math.hypot(d[0], d[1]), d[2], e.length, e.weight, e.ea)
+        assert math.hypot(f[0], f[1]) == pytest.approx(h_qs, rel=0.01)
+        assert -f[2] == pytest.approx(v_qs, rel=0.01)
+    assert motion < 1e-3
+
+
+def test_rm3_rollback_restores_the_mooring_lines(decay) -> None:
+    """FMU state get/set through fmpy (what iterative masters do every step) takes MoorDyn's lines back too."""
+    scene, fmus = decay
+    master = start(scene, fmus)
+    h = scene.scenario.simulation.step
+
+    def run(first: int, n: int) -> np.ndarray:
+        out = []
+        for k in range(first, first + n):
+            master.step(h, k * h)
+            out.append(np.concatenate([master.outputs[MBD], line_forces(master).ravel()]))
+        return np.array(out)
+
+    run(1, 10)
+    saved = master.checkpoint()
+    first = run(11, 15)
+    master.restore(saved)
+    second = run(11, 15)
+    master.terminate()
+    np.testing.assert_array_equal(first, second)
+    assert np.ptp(first[:, -9:], axis=0).max() > 100.0  # the line forces change (N) over the window
+
+
+def test_rm3_resume_from_a_checkpoint_equals_the_uninterrupted_run(tmp_path) -> None:
+    """Checkpoints hold MoorDyn's state as bytes inside the multibody FMU's state: resuming from the one at
+    3 s (new FMU instances, a new MoorDyn system) reproduces the run to the last bit."""
+    s = scenario()
+    s.simulation.duration = 5.0
+    s.simulation.checkpoint_every = 3.0
+    out = tmp_path / "decay.h5"
+    run_scenario(s, out, progress=False, log=None)
+    whole = read_results(out)
+    assert checkpoint_path(out).is_file()
+    resume_run(out, progress=False, log=None)
+    resumed = read_results(out)
+    for key in ("bodies/spar/displacement", "bodies/float/velocity", "ptos/pto/power"):
+        np.testing.assert_array_equal(resumed[key], whole[key])
+    assert abs(whole["bodies/spar/displacement"][-1, 0] - 5.0) > 1e-3  # the decay has started
+
+
+@pytest.mark.parametrize("master", ["iqn_ils"])
+def test_rm3_iterative_master_with_rollback(tmp_path, master) -> None:
+    """An iterative master rolls the FMUs back at every iteration; with MoorDyn's state restored each time it
+    agrees with the Jacobi run to the co-simulation error (a lost rollback would step the lines again or
+    freeze them: errors of the order of the motion)."""
+    runs = {}
+    for m in ("jacobi", master):
+        s = scenario(**{"simulation.duration": "4.0"})
+        s.simulation.master = m
+        runs[m] = read_results(run_scenario(s, tmp_path / f"{m}.h5", progress=False, log=None).path)
+    a, b = (runs[m]["bodies/spar/displacement"][:, 0] for m in ("jacobi", master))
+    moved = abs(a[-1] - a[0])
+    assert moved > 1e-3
+    assert np.abs(a - b).max() < 0.01 * moved
+
+
+@pytest.mark.parametrize("edit, fragments", [
+    (lambda t: t.replace("diameter = 0.137\n", "", 1), ["forces[0] (line1)", "needs the line's diameter"]),
+    (lambda t: t.replace("anchor = [250.0, 0.0, -70.0]", "anchor = [250.0, 0.0, -60.0]"),
+     ["every catenary anchor on one sea bed"]),
+    (lambda t: t.replace("time_step = 0.004 ", "time_step = 0.01 "),
+     ["mooring_lines.time_step (0.01 s) exceeds the axial Courant limit of line 'line1'"]),
+    (lambda t: t.replace('model = "moordyn"', 'model = "lumped"'), ["mooring_lines.model", "not one of"]),
+])
+def test_invalid_mooring_line_keys_name_file_and_key(tmp_path, edit, fragments) -> None:
+    text = (SCENARIOS / "rm3_regular.toml").read_text()
+    assert_rejected(write(tmp_path, edit(text)), fragments)
+
+
+def test_set_override_picks_the_mooring_model() -> None:
+    s = scenario(**{"mooring_lines.model": "quasi_static"})
+    assert s.mooring_lines.model == "quasi_static" and s._overrides == ["mooring_lines.model=quasi_static"]
+    from orchestrator.errors import ScenarioError
+
+    with pytest.raises(ScenarioError, match="'cable' is not one of quasi_static, moordyn"):
+        scenario(**{"mooring_lines.model": "cable"})
