@@ -3,7 +3,10 @@
 Each scenario is run as a user runs it (``wec-cosim run SCENARIO``: scene, database from the
 committed cache, FMUs through fmpy, the scenario's own master, step and duration), ``--repeat``
 times; the table gives the median and minimum of the whole run's wall time (set-up included)
-and of the stepping loop's (``RunResult.wall_time``), and the real-time factor of the loop.
+and of the stepping loop's (``RunResult.wall_time``), the real-time factor of the loop, and the
+whole run's CPU time of this process (the FMUs run in it through fmpy; on a loaded machine CPU
+time is the load-independent figure). A third element in a ``SCENARIOS`` entry gives ``--set``
+overrides (the same scene with another choice, e.g. the mooring model).
 
 Run (on a quiet machine; the load average is recorded in the output):
 
@@ -39,12 +42,12 @@ SCENARIOS: list[tuple] = [
 ]
 
 
-def run_once(path: Path, folder: Path, overrides: tuple[str, ...] = ()) -> tuple[float, float, float]:
-    """(whole-run wall s, stepping-loop wall s, simulated s) of one run."""
+def run_once(path: Path, folder: Path, overrides: tuple[str, ...] = ()) -> tuple[float, float, float, float]:
+    """(whole-run wall s, stepping-loop wall s, simulated s, whole-run CPU s of this process) of one run."""
     scenario = apply_overrides(load_scenario(path), list(overrides))
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     result = run_scenario(scenario, folder / f"{path.stem}.h5", progress=False, log=None)
-    return time.perf_counter() - start, result.wall_time, result.simulated_time
+    return time.perf_counter() - start, result.wall_time, result.simulated_time, time.process_time() - cpu
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -58,7 +61,7 @@ def main(argv: list[str] | None = None) -> None:
              f"# python {platform.python_version()}, {os.cpu_count()} cores, load average at start "
              f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}",
              f"{'scenario':<28}{'simulated s':>12}{'run s med':>10}{'run s min':>10}{'loop s med':>11}"
-             f"{'RTF (loop, med)':>16}  what"]
+             f"{'RTF (loop, med)':>16}{'run cpu s':>10}  what"]
     with tempfile.TemporaryDirectory() as tmp:
         for name, what, *rest in SCENARIOS:
             if a.only and name not in a.only:
@@ -69,7 +72,8 @@ def main(argv: list[str] | None = None) -> None:
             loop = [r[1] for r in runs]
             simulated = runs[0][2]
             lines.append(f"{name:<28}{simulated:12.1f}{statistics.median(whole):10.2f}{min(whole):10.2f}"
-                         f"{statistics.median(loop):11.2f}{simulated / statistics.median(loop):16.1f}  {what}")
+                         f"{statistics.median(loop):11.2f}{simulated / statistics.median(loop):16.1f}"
+                         f"{statistics.median(r[3] for r in runs):10.1f}  {what}")
     lines.append(f"# load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     write_report(lines, a.out)
 

@@ -357,16 +357,23 @@ class MoorDynSystem:
         return new
 
     def __getstate__(self) -> dict:
-        """Plain data: line and solver settings, fairleads, forces, times and MoorDyn's bytes."""
+        """Plain data: line and solver settings (dataclasses), fairleads, forces, times (numbers, arrays), the
+        input file text and MoorDyn's serialised state as a uint8 array."""
         state = {k: v for k, v in self.__dict__.items() if k not in ("_instance", "_snapshot")}
-        state["moordyn_state"] = self.serialized()
+        state["moordyn_state"] = np.frombuffer(self.serialized(), dtype=np.uint8).copy()
         return state
 
     def __setstate__(self, state: dict) -> None:
+        """From :meth:`__getstate__`'s data. Decoded onto a live copy (which shares a MoorDyn instance) the
+        instance is kept and the state loaded into it when this object is used; otherwise a new instance is
+        created then."""
         state = dict(state)
-        snapshot = state.pop("moordyn_state")
+        snapshot = bytes(np.asarray(state.pop("moordyn_state"), dtype=np.uint8))
+        instance = self.__dict__.get("_instance")
         self.__dict__.update(state)
-        self._instance = None
+        if instance is not None and instance.owner is not None and instance.owner() is self:
+            instance.owner = None  # this object's old state in the instance is stale now
+        self._instance = instance
         self._snapshot = snapshot or None
 
 

@@ -56,6 +56,12 @@ def start(scene, fmus, duration: float = 10.0) -> JacobiMaster:
     return master
 
 
+def displacements(master, scene) -> np.ndarray:
+    names = [f"{b.name}.x[{i}]" for b in scene.scenario.bodies for i in (1, 3, 5)]
+    comp = master.components[MBD]
+    return np.array(comp.get_reals(comp.port(names)))
+
+
 def line_forces(master) -> np.ndarray:
     comp = master.components[MBD]
     return np.array(comp.get_reals(comp.port(FORCES))).reshape(3, 3)
@@ -71,7 +77,7 @@ def test_rm3_rests_in_equilibrium_with_catenary_tensions(at_rest) -> None:
     for k in range(1, 51):
         master.step(h, k * h)
     forces = line_forces(master)
-    motion = np.abs(master.outputs[MBD]).max()
+    motion = np.abs(displacements(master, scene)).max()
     master.terminate()
     for e, f in zip(scene.scenario.forces, forces, strict=True):
         d = np.subtract(e.fairlead, e.anchor)
@@ -91,7 +97,7 @@ def test_rm3_rollback_restores_the_mooring_lines(decay) -> None:
         out = []
         for k in range(first, first + n):
             master.step(h, k * h)
-            out.append(np.concatenate([master.outputs[MBD], line_forces(master).ravel()]))
+            out.append(np.concatenate([displacements(master, scene), line_forces(master).ravel()]))
         return np.array(out)
 
     run(1, 10)
@@ -106,7 +112,7 @@ def test_rm3_rollback_restores_the_mooring_lines(decay) -> None:
 
 def test_rm3_resume_from_a_checkpoint_equals_the_uninterrupted_run(tmp_path) -> None:
     """Checkpoints hold MoorDyn's state as bytes inside the multibody FMU's state: resuming from the one at
-    3 s (new FMU instances, a new MoorDyn system) reproduces the run to the last bit."""
+    3 s (new FMU instances, a new MoorDyn system) reproduces the run to round-off (1e-12, as the other scenes)."""
     s = scenario()
     s.simulation.duration = 5.0
     s.simulation.checkpoint_every = 3.0
@@ -116,8 +122,8 @@ def test_rm3_resume_from_a_checkpoint_equals_the_uninterrupted_run(tmp_path) -> 
     assert checkpoint_path(out).is_file()
     resume_run(out, progress=False, log=None)
     resumed = read_results(out)
-    for key in ("bodies/spar/displacement", "bodies/float/velocity", "ptos/pto/power"):
-        np.testing.assert_array_equal(resumed[key], whole[key])
+    for key in ("bodies/spar/displacement", "bodies/float/velocity", "ptos/pto/power", "forces/line1/force"):
+        np.testing.assert_allclose(resumed[key], whole[key], rtol=1e-12, atol=1e-12 * np.max(np.abs(whole[key])))
     assert abs(whole["bodies/spar/displacement"][-1, 0] - 5.0) > 1e-3  # the decay has started
 
 
@@ -128,7 +134,7 @@ def test_rm3_iterative_master_with_rollback(tmp_path, master) -> None:
     freeze them: errors of the order of the motion)."""
     runs = {}
     for m in ("jacobi", master):
-        s = scenario(**{"simulation.duration": "4.0"})
+        s = scenario(**{"simulation.duration": "2.0"})
         s.simulation.master = m
         runs[m] = read_results(run_scenario(s, tmp_path / f"{m}.h5", progress=False, log=None).path)
     a, b = (runs[m]["bodies/spar/displacement"][:, 0] for m in ("jacobi", master))
