@@ -382,7 +382,8 @@ def radiation_report(plan: RunPlan) -> dict:
 
 def _run_statistics(plan: RunPlan) -> dict:
     sizes = plan.controller.sizes
-    out = {"macro_steps": plan.controller.steps, "master": plan.master.name}
+    out = {"macro_steps": plan.controller.steps, "master": plan.master.name,
+           "mooring_lines": plan.scene.scenario.mooring_lines.model}
     if sizes:
         out.update(smallest_step=min(sizes), largest_step=max(sizes), mean_step=float(np.mean(sizes)))
     its = getattr(plan.master, "iterations", [])
@@ -440,7 +441,9 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
-        lines.append("steady state against the exact frequency-domain solution:")
+        lines.append("steady state against the exact frequency-domain solution"
+                     + (" (mooring lines linearised quasi-statically: MoorDyn's line dynamics are not in it):"
+                        if result.statistics.get("mooring_lines") == "moordyn" else ":"))
         lines.append(f"  {'quantity':<24}{'co-simulation':>16}{'exact':>16}{'error':>10}{'phase err':>11}")
         for c in result.comparisons:
             phase = f"{c.phase_error_deg:+9.2f} deg" if not math.isnan(c.phase_error_deg) else ""

@@ -163,3 +163,35 @@ def test_set_override_picks_the_mooring_model() -> None:
 
     with pytest.raises(ScenarioError, match="'cable' is not one of quasi_static, moordyn"):
         scenario(**{"mooring_lines.model": "cable"})
+
+
+def test_database_repair_keeps_physical_matrices_and_fixes_the_rest() -> None:
+    """hydro_fmu.hdb_repair: a symmetric positive semi-definite B is left as it is; an asymmetric one with a
+    negative eigenvalue becomes symmetric with that eigenvalue zero and the others kept; the committed RM3
+    database is reproduced from the cached Capytaine solve (scenarios/data/rm3/make_database.py)."""
+    import dataclasses
+
+    from hydro_fmu.bemio import read_bemio
+    from hydro_fmu.hdb_repair import reciprocal_passive, truncated
+
+    hdb = read_bemio(SCENARIOS / "data" / "rm3" / "rm3.h5")
+    planar = np.array([0, 2, 4, 6, 8, 10])
+    same, report = reciprocal_passive(hdb, planar)
+    np.testing.assert_allclose(same.radiation_damping, hdb.radiation_damping, rtol=0, atol=1e-9 * np.abs(
+        hdb.radiation_damping).max())
+    assert max(report.values()) < 1e-9
+    q = np.linalg.qr(np.random.default_rng(3).normal(size=(6, 6)))[0]
+    b = q @ np.diag([5.0, 3.0, 2.0, 1.0, 0.5, -0.4]) @ q.T + np.triu(np.full((6, 6), 0.1), 1)
+    bad = dataclasses.replace(truncated(hdb, hdb.omega[1]), radiation_damping=np.zeros((2, 12, 12)))
+    bad.radiation_damping[0][np.ix_(planar, planar)] = b
+    fixed, report = reciprocal_passive(bad, planar)
+    block = fixed.radiation_damping[0][np.ix_(planar, planar)]
+    np.testing.assert_allclose(block, block.T, atol=1e-12)
+    values = np.linalg.eigvalsh(block)
+    expected = np.sort(np.clip(np.linalg.eigvalsh(0.5 * (b + b.T)), 0.0, None))
+    np.testing.assert_allclose(values, expected, atol=1e-12)
+    assert report["damping_negative_part"] > 0.01 and report["damping_asymmetry"] > 0.01
+    raw = read_bemio(next((SCENARIOS / "hydro_cache").glob("float-spar-*.h5")))
+    redo, _ = reciprocal_passive(truncated(raw, 2.5), planar)
+    np.testing.assert_allclose(redo.radiation_damping, hdb.radiation_damping, rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(redo.excitation, hdb.excitation, rtol=1e-12)
