@@ -13,6 +13,8 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from mbd_fmu.moordyn_lines import SCHEMES as MOORDYN_SCHEMES
+
 from . import schema
 from .errors import ScenarioError
 from .schema import identifier, non_negative, option, positive
@@ -441,7 +443,7 @@ class MooringLinesSection:
     time_step: float = option(0.001, unit="s", check=positive,
                               doc="MoorDyn's own step dtM (sub-cycled within each multibody step); must stay below "
                                   "each line's axial Courant limit, segment length / sqrt(EA / mass per length)")
-    scheme: str = option("RK2", choices=("RK2", "RK4", "Euler", "Heun", "AB3", "AB4"),
+    scheme: str = option("RK2", choices=MOORDYN_SCHEMES,
                          doc="MoorDyn's time scheme (explicit; RK2 is MoorDyn's default)")
     seabed_stiffness: float = option(3.0e6, unit="Pa/m", check=positive,
                                      doc="MoorDyn's sea-bed contact stiffness per unit area (the sea bed is at the "

@@ -418,7 +418,8 @@ class Scene:
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
     def multibody_simulator(self, *, added_mass: bool = True):
-        """The nonlinear multibody model of the scene, assembled (for linearisation and tests)."""
+        """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
+        are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
         from mbd_fmu.spec import build_simulator
 
         idx = self.hydro_index()
