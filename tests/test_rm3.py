@@ -195,3 +195,31 @@ def test_database_repair_keeps_physical_matrices_and_fixes_the_rest() -> None:
     redo, _ = reciprocal_passive(truncated(raw, 2.5), planar)
     np.testing.assert_allclose(redo.radiation_damping, hdb.radiation_damping, rtol=1e-12, atol=1e-6)
     np.testing.assert_allclose(redo.excitation, hdb.excitation, rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_rm3_surge_decay_periods_against_the_linearised_scene(tmp_path) -> None:
+    """Surge decay from 1 m (small motion): with the quasi-static lines the period equals the undamped natural
+    period of the scene linearised at rest (Re Z(omega) singular, A(omega) from the database) within 2 %;
+    with MoorDyn the lines' drag damps the motion (at least five times the quasi-static decrement) and the
+    period stays within 5 % of it (line inertia and added mass lengthen it)."""
+    import sys
+
+    sys.path.insert(0, str(SCENARIOS.parent / "benchmarks"))
+    from bench_rm3_mooring import crossings, linear_periods, peaks
+
+    periods = dict((mode, p) for p, mode in linear_periods(load_scene(scenario(), log=None)))
+    natural = periods["float surge"]
+    out = {}
+    for model in ("quasi_static", "moordyn"):
+        s = scenario(**{"mooring_lines.model": model, "simulation.duration": "180.0"})
+        for b in s.bodies:
+            b.initial_displacement = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        r = read_results(run_scenario(s, tmp_path / f"{model}.h5", progress=False, log=None).path)
+        t, x = r["time"], r["bodies/spar/displacement"][:, 0]
+        p = peaks(x)
+        p = p[p > 0]
+        out[model] = (float(np.mean(np.diff(crossings(t, x)))), float(np.mean(np.log(p[:-1] / p[1:]))))
+    assert out["quasi_static"][0] == pytest.approx(natural, rel=0.02)
+    assert out["moordyn"][0] == pytest.approx(natural, rel=0.05)
+    assert out["moordyn"][1] > 5 * max(out["quasi_static"][1], 1e-3)
