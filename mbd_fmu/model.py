@@ -363,10 +363,9 @@ class MultibodyModel:
         return 0.5 * float(v @ self.mass_matrix(pose) @ v)
 
     def potential_energy(self, k: Kin) -> float:
-        """Gravity and static loads (constant forces: -F . r, from the equilibrium pose) plus the elements'
-        stored energy."""
+        """Gravity and static loads (constant forces: -F . r) plus the elements' stored energy."""
         r = k.rr[: self.N]
-        v = -float(np.sum(self.mass[:, None] * self.gravity * (r - self.cg)))
+        v = -float(np.sum(self.mass[:, None] * self.gravity * r))
         v -= float(np.sum(self.static[: self.N, :3] * (r - self.cg)))
         v -= float(np.sum(self.static[: self.N, 3:] * log_so3(k.RR[: self.N])))  # exact only for small rotations
         return v + sum(e.potential(k) for e in self.elements)
