@@ -33,6 +33,7 @@ from __future__ import annotations
 import contextlib
 import copy
 import ctypes
+import dataclasses
 import math
 import os
 import shutil
@@ -357,9 +358,11 @@ class MoorDynSystem:
         return new
 
     def __getstate__(self) -> dict:
-        """Plain data: line and solver settings (dataclasses), fairleads, forces, times (numbers, arrays), the
+        """Plain data: line and solver settings (as dicts), fairleads, forces, times (numbers, arrays), the
         input file text and MoorDyn's serialised state as a uint8 array."""
-        state = {k: v for k, v in self.__dict__.items() if k not in ("_instance", "_snapshot")}
+        state = {k: v for k, v in self.__dict__.items() if k not in ("_instance", "_snapshot", "lines", "settings")}
+        state["lines"] = [dataclasses.asdict(ln) for ln in self.lines]  # dicts, not objects: data only
+        state["settings"] = dataclasses.asdict(self.settings)
         state["moordyn_state"] = np.frombuffer(self.serialized(), dtype=np.uint8).copy()
         return state
 
@@ -369,6 +372,8 @@ class MoorDynSystem:
         created then."""
         state = dict(state)
         snapshot = bytes(np.asarray(state.pop("moordyn_state"), dtype=np.uint8))
+        state["lines"] = [LineSpec(**d) for d in state["lines"]]
+        state["settings"] = MoorDynSettings(**state["settings"])
         instance = self.__dict__.get("_instance")
         self.__dict__.update(state)
         if instance is not None and instance.owner is not None and instance.owner() is self:

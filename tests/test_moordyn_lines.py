@@ -86,8 +86,7 @@ def test_copies_and_data_round_trips_restore_the_lines_exactly() -> None:
     data = pickle.dumps(saved)
     state = system_of(saved).__getstate__()
     assert state["moordyn_state"].dtype == np.uint8 and state["moordyn_state"].size > 1000
-    assert all(isinstance(v, (str, float, int, np.ndarray, list)) or hasattr(v, "__dataclass_fields__")
-               for v in state.values())  # plain data: no MoorDyn object, no bytes
+    assert all(isinstance(v, (str, float, int, np.ndarray, list, dict)) for v in state.values())  # plain data
 
     def history(s, n: int = 10) -> np.ndarray:
         out = []
