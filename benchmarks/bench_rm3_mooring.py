@@ -35,7 +35,7 @@ from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 from orchestrator.simulation import run_scenario
-from orchestrator.sweep import apply_overrides
+from orchestrator.overrides import apply_overrides
 
 ROOT = Path(__file__).resolve().parent.parent
 DECAY = ROOT / "scenarios" / "rm3_surge_decay.toml"

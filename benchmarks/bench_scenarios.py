@@ -27,7 +27,7 @@ from common import write_report
 
 from orchestrator.scenario import load_scenario
 from orchestrator.simulation import run_scenario
-from orchestrator.sweep import apply_overrides
+from orchestrator.overrides import apply_overrides
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -132,6 +132,8 @@ class _Encoder:
     def node(self, obj: Any, path: str) -> Any:  # noqa: C901 - one branch per kind of node
         if obj is None or isinstance(obj, (bool, str)):
             return obj
+        if isinstance(obj, (bytes, bytearray)):
+            return {"$": "bytes", "i": self._array(np.frombuffer(bytes(obj), dtype=np.uint8), path)}
         if isinstance(obj, int) and not isinstance(obj, np.integer):
             return int(obj)
         if isinstance(obj, float) and not isinstance(obj, np.floating):
@@ -346,6 +348,11 @@ class _Decoder:
             return self._keep(node, self._array(node))
         if kind == "scalar":
             return self._array(node)[()]
+        if kind == "bytes":
+            data = self._array(node)
+            if data.dtype != np.uint8 or data.ndim != 1:
+                raise StateFormatError(f"{path}: bytes stored as {data.dtype} of shape {data.shape}")
+            return data.tobytes()
         if kind == "float":
             if node["v"] not in ("nan", "inf", "-inf"):
                 raise StateFormatError(f"{path}: bad special float {node['v']!r}")

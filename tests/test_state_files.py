@@ -39,7 +39,8 @@ def test_round_trip_of_a_state_tree_keeps_values_types_and_sharing() -> None:
     shared = np.linspace(0, 1, 5)
     state = {"x": shared, "y": shared, "t": (1, 2.5, "s", None, True), "nan": float("nan"), "inf": -np.inf,
              "c": 1 + 2j, "i": np.int64(7), "f32": np.float32(0.5), "deque": collections.deque([1.0, 2.0], maxlen=3),
-             3.5: "float key", "set": {1, 2}, "big": 2**70, "empty": np.zeros((0, 4)), "cplx": np.ones(2, complex)}
+             3.5: "float key", "set": {1, 2}, "big": 2**70, "empty": np.zeros((0, 4)), "cplx": np.ones(2, complex),
+             "bytes": (b"\x00raw\xff", b"")}
     back = decode(encode(state))
     assert back["x"] is back["y"] and np.array_equal(back["x"], shared)
     assert back["t"] == (1, 2.5, "s", None, True) and np.isnan(back["nan"]) and back["inf"] == -np.inf
@@ -47,6 +48,7 @@ def test_round_trip_of_a_state_tree_keeps_values_types_and_sharing() -> None:
     assert back["deque"] == collections.deque([1.0, 2.0]) and back["deque"].maxlen == 3
     assert back[3.5] == "float key" and back["set"] == {1, 2} and back["big"] == 2**70
     assert back["empty"].shape == (0, 4) and back["cplx"].dtype == complex
+    assert back["bytes"] == (b"\x00raw\xff", b"")
 
 
 def test_objects_are_restored_into_the_live_template_with_shared_references_and_cycles() -> None:
