@@ -31,7 +31,7 @@ from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mes
 
 # Bump when the way a database is computed changes: invalidates every cached file.
 BEM_CACHE_VERSION = 1
-SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "axisymmetric", "mesh")
 
 _logger = logging.getLogger(__name__)
 
@@ -46,10 +46,18 @@ class BodyGeometry:
     Attributes:
         shape: ``vertical_cylinder`` (``radius``, ``draft``; local origin on the axis at the
             waterline), ``sphere`` (``radius``; origin at the centre), ``box`` (``size`` =
-            length, width, height; origin at the centre) or ``mesh`` (``mesh_file``; the file's
-            own coordinates).
+            length, width, height; origin at the centre), ``axisymmetric`` (``profile``: the
+            generating curve revolved about the local z axis, see :func:`mesh_of_revolution`) or
+            ``mesh`` (``mesh_file``; the file's own coordinates).
         position: world coordinates (m) of the local origin.
         rotation_deg: rotation about the local origin, about the fixed x, then y, then z axis (deg).
+        profile: ``axisymmetric``: ``(r, z)`` points (m) of the hull's cross-section in a meridian
+            half-plane, in order along the hull surface.
+        dry_segments: ``axisymmetric``: indices of profile segments in contact with another body
+            (e.g. a float's bore sliding on a spar's column): they close the body for its hydrostatics
+            (displaced volume, centre of buoyancy, stiffness) but are not wetted, so they are left out
+            of the BEM mesh; the neighbour's hull in that stretch is dry too (no water gap, hence no
+            gap resonance).
         panel_size: target panel edge (m) for primitives; ignored for mesh files.
         lid: put a lid mesh on the waterplane of a surface-piercing body to remove irregular
             frequencies (not needed for thin discs, whose irregular frequencies are very high).
@@ -64,6 +72,8 @@ class BodyGeometry:
     panel_size: float = 0.5
     lid: bool = True
     rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    profile: tuple[tuple[float, float], ...] = ()
+    dry_segments: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
@@ -130,6 +140,10 @@ def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
         item = asdict(body)
         if not any(body.geometry.rotation_deg):  # keys of databases made before rotations existed stay valid
             item["geometry"].pop("rotation_deg")
+        if not body.geometry.profile:  # nor do profiles change the keys of other shapes
+            item["geometry"].pop("profile")
+        if not body.geometry.dry_segments:
+            item["geometry"].pop("dry_segments")
         if body.geometry.shape == "mesh":
             item["geometry"]["mesh_file"] = _file_digest(Path(body.geometry.mesh_file))
         items.append(item)
@@ -227,9 +241,8 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
         # Capytaine exp(-i w t) -> exp(+i w t): complex conjugate.
         return np.conj(da.transpose("wave_direction", "omega", "influenced_dof").sel(influenced_dof=dofs).values)
 
-    stiffness = np.stack([
-        cb.compute_hydrostatic_stiffness(rho=settings.rho, g=settings.g).values for cb in cpt_bodies
-    ])
+    static = [_hydrostatic_body(b, cb) for b, cb in zip(bodies, cpt_bodies, strict=True)]
+    stiffness = np.stack([cb.compute_hydrostatic_stiffness(rho=settings.rho, g=settings.g).values for cb in static])
     hdb = HydroDatabase(
         body_names=[b.name for b in bodies],
         omega=omega,
@@ -242,8 +255,8 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
         diffraction=forces(ds["diffraction_force"]),
         hydrostatic_stiffness=stiffness,
         cg=np.array([b.cg for b in bodies], dtype=float),
-        cb=np.array([np.asarray(cb.center_of_buoyancy) for cb in cpt_bodies]),
-        displaced_volume=np.array([cb.volume for cb in cpt_bodies]),
+        cb=np.array([np.asarray(cb.center_of_buoyancy) for cb in static]),
+        displaced_volume=np.array([cb.volume for cb in static]),
         rho=settings.rho,
         g=settings.g,
         water_depth=settings.water_depth,
@@ -293,7 +306,12 @@ def _floating_body(body: BemBody, symmetry: str = "none"):
     if immersed.nb_faces == 0:
         raise HydroDatabaseError(f"body {body.name!r}: the mesh has no panel below the waterline z = 0")
     lid = None
-    if body.geometry.lid and np.max(immersed.vertices[:, 2]) > -1e-6:  # surface-piercing: lid on the waterplane
+    if body.geometry.shape == "axisymmetric":  # the waterplane inside the profile, dry stretches included
+        if body.geometry.lid:
+            lid = _axisymmetric_lid(body.geometry)
+            if lid is not None and symmetry == "xOz":
+                lid = reflection_symmetric(lid, body.name)
+    elif body.geometry.lid and np.max(immersed.vertices[:, 2]) > -1e-6:  # surface-piercing: lid on the waterplane
         lid = immersed.generate_lid(z=0.0, faces_max_radius=_lid_panel(body.geometry))
     return cpt.FloatingBody(
         mesh=immersed,
@@ -302,6 +320,47 @@ def _floating_body(body: BemBody, symmetry: str = "none"):
         center_of_mass=body.cg,
         name=body.name,
     )
+
+
+def _hydrostatic_body(body: BemBody, bem_body):
+    """The body whose hydrostatics go into the database: the BEM body, or for an axisymmetric hull with dry
+    segments the closed hull (its dry stretches carry the pressure the neighbour transmits)."""
+    g = body.geometry
+    if g.shape != "axisymmetric" or not g.dry_segments:
+        return bem_body
+    import capytaine as cpt
+
+    closed = _placed(mesh_of_revolution(g.profile, g.panel_size), g).immersed_part()
+    return cpt.FloatingBody(mesh=closed, dofs=cpt.rigid_body_dofs(rotation_center=body.cg), center_of_mass=body.cg,
+                            name=body.name)
+
+
+def _axisymmetric_lid(g: BodyGeometry):
+    """Lid (normals down) on the waterplane of an axisymmetric hull: the annuli between the radii where
+    the whole profile crosses z = 0 (from the axis when it crosses an odd number of times); None if it
+    does not cross."""
+    import capytaine as cpt
+
+    pts = np.asarray(g.profile, dtype=float)
+    radii = sorted({float(a[0] + (b[0] - a[0]) * a[1] / (a[1] - b[1]))
+                    for a, b in zip(pts[:-1], pts[1:], strict=True) if (a[1] > 0) != (b[1] > 0)})
+    if not radii:
+        return None
+    if len(radii) % 2:
+        radii.insert(0, 0.0)
+    parts = [mesh_of_revolution([(inner, 0.0), (outer, 0.0)], g.panel_size, orient=False)
+             for inner, outer in zip(radii[::2], radii[1::2], strict=True)]
+    lid = parts[0] if len(parts) == 1 else cpt.Mesh.join_meshes(*parts)
+    return _placed(lid, g)
+
+
+def _placed(mesh, g: BodyGeometry):
+    """A primitive's Capytaine mesh rotated about its origin and moved to its world position."""
+    from .meshes import euler_xyz
+
+    if any(g.rotation_deg):
+        mesh = mesh.rotated_with_matrix(euler_xyz(g.rotation_deg))
+    return mesh.translated(tuple(g.position))
 
 
 def reflection_symmetric(mesh, name: str, tolerance: float = 1e-6):
@@ -334,6 +393,8 @@ def _lid_panel(geometry: BodyGeometry) -> float:
 
 def _mesh(geometry: BodyGeometry):
     """Capytaine mesh of a body in world coordinates (primitives keep Capytaine's quadrilaterals)."""
+    if geometry.shape == "axisymmetric":  # wetted part only (dry segments left out)
+        return _placed(mesh_of_revolution(geometry.profile, geometry.panel_size, skip=geometry.dry_segments), geometry)
     if geometry.shape == "mesh" or any(geometry.rotation_deg):
         return to_capytaine(body_mesh(geometry))
     return _primitive_mesh(geometry).translated(tuple(geometry.position))
@@ -358,6 +419,8 @@ def _primitive_mesh(geometry: BodyGeometry):
             raise HydroDatabaseError("sphere needs a positive radius")
         n = max(8, math.ceil(math.pi * g.radius / ps))
         mesh = cpt.mesh_sphere(radius=g.radius, center=(0.0, 0.0, 0.0), resolution=(n, 2 * n))
+    elif g.shape == "axisymmetric":
+        mesh = mesh_of_revolution(g.profile, ps)
     elif g.shape == "box":
         if min(g.size) <= 0:
             raise HydroDatabaseError("box needs three positive sizes (length, width, height)")
@@ -366,6 +429,66 @@ def _primitive_mesh(geometry: BodyGeometry):
     else:
         raise HydroDatabaseError(f"unknown primitive shape {g.shape!r}")
     return mesh
+
+
+def mesh_of_revolution(profile, panel_size: float, skip: tuple[int, ...] = (), orient: bool = True):
+    """Capytaine mesh of the surface swept by revolving ``profile`` about the z axis.
+
+    ``profile``: ``(r, z)`` points (m, r >= 0) along the hull's cross-section in a meridian
+    half-plane, e.g. for a floating annulus: the outer wall from above the waterline down, the
+    bottom inwards, the inner wall up. Each segment is split into pieces no longer than
+    ``panel_size`` and revolved in its own number of sectors, the smallest that keeps arcs at its
+    largest radius no longer than ``panel_size`` (even, at least 12): a slender column under a wide plate
+    keeps panels of about the same size on both (segments meet without sharing vertices, which
+    a constant-panel BEM does not need). Points on the axis close the surface with triangles. The
+    vertices lie at ``r sqrt(phi / sin phi)`` (``phi`` the sector angle), so each horizontal section
+    of the faceted surface has the area of the true circle: volumes and waterplane areas, hence
+    the hydrostatics of vertical walls and flat bottoms, are exact for any number of sectors.
+    Normals point out of the body whichever way the profile is traversed (the orientation that
+    gives the immersed part a positive volume is kept) if ``orient``, else along ``t x e_theta``
+    (``t`` the profile's direction). Segments whose index is in ``skip`` are left out.
+    """
+    import capytaine as cpt
+
+    pts = np.asarray(profile, dtype=float).reshape(-1, 2)
+    if len(pts) < 2 or np.any(pts[:, 0] < 0) or not np.all(np.isfinite(pts)):
+        raise HydroDatabaseError("axisymmetric profile needs at least two (r, z) points with r >= 0")
+    vertices, faces = [], []
+    for index, (a, b) in enumerate(zip(pts[:-1], pts[1:], strict=True)):
+        if index in skip:
+            continue
+        n_s = max(1, math.ceil(float(np.hypot(*(b - a))) / panel_size))
+        n_t = 2 * max(6, math.ceil(math.pi * max(a[0], b[0]) / panel_size))  # even: vertices on y = 0
+        phi = 2 * math.pi / n_t
+        meridian = a + (b - a) * (np.arange(n_s + 1)[:, None] / n_s)
+        theta = phi * np.arange(n_t)
+        r = meridian[:, 0] * math.sqrt(phi / math.sin(phi))
+        v = np.stack([np.outer(r, np.cos(theta)), np.outer(r, np.sin(theta)),
+                      np.repeat(meridian[:, 1:], n_t, axis=1)], axis=-1).reshape(-1, 3)
+        base = sum(len(x) for x in vertices)
+        for i in range(n_s):
+            for j in range(n_t):
+                p, q = base + i * n_t + j, base + i * n_t + (j + 1) % n_t
+                s, t = q + n_t, p + n_t
+                if meridian[i, 0] == 0.0:
+                    faces.append([p, s, t, t])
+                elif meridian[i + 1, 0] == 0.0:
+                    faces.append([p, q, s, s])
+                else:
+                    faces.append([p, q, s, t])
+        vertices.append(v)
+    vertices, faces = np.concatenate(vertices), np.array(faces, dtype=int)
+    mesh = cpt.Mesh(vertices=vertices, faces=faces)
+    if orient and _divergence_volume(mesh.immersed_part()) < 0:
+        mesh = cpt.Mesh(vertices=vertices, faces=faces[:, [0, 3, 2, 1]])
+    return mesh
+
+
+def _divergence_volume(mesh) -> float:
+    """Volume by the divergence theorem with z n_z (valid for a surface open above the waterline or closed
+    by a neighbour's dry stretch, where the x and y forms are not)."""
+    return float(np.sum(np.asarray(mesh.faces_centers)[:, 2] * np.asarray(mesh.faces_normals)[:, 2]
+                        * np.asarray(mesh.faces_areas)))
 
 
 def _file_digest(path: Path) -> str:

@@ -95,6 +95,10 @@ class ForceElement:
         """Force components reported as FMU outputs."""
         return np.zeros(0)
 
+    def start(self, k: Kin) -> None:
+        """Once, at the assembled initial state, before the first force evaluation (elements with
+        their own dynamics, e.g. MoorDyn lines, set up their initial state here)."""
+
     def commit(self, k: Kin) -> None:
         """After an accepted step."""
 

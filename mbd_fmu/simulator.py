@@ -50,6 +50,9 @@ class MultibodySimulator:
         self.report = analyse(self.model, pose, t)
         pose, v, moved = assemble(self.model, pose, np.asarray(v, float), t)
         self.report = analyse(self.model, pose, t)
+        k = self.model.kin(pose, v, t)
+        for e in self.model.elements:
+            e.start(k)
         self.formulation.initialize(pose, v, t, inputs)
         self.energy0 = self.mechanical_energy()
         self.dissipated = 0.0

@@ -1,6 +1,6 @@
 """``wec-cosim`` command line.
 
-    wec-cosim run SCENARIO [--out FILE] [--in-process]   time-domain co-simulation
+    wec-cosim run SCENARIO [--out FILE] [--set KEY=VALUE] time-domain co-simulation
     wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
@@ -58,8 +58,9 @@ def _out(value: str, kind: str = "hdf5") -> Path:
 
 def cmd_run(args: argparse.Namespace) -> int:
     from .simulation import format_summary, run_scenario
+    from .overrides import apply_overrides
 
-    scenario = _scenario(args.scenario)
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.duration is not None:
         _override_duration(scenario, args.duration)
     if args.out is not None:
@@ -259,6 +260,9 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")
     r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
+                        "ptos.pto.damping=8e5 (repeatable)")
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)

@@ -168,6 +168,9 @@ def _check_panels(s, f: str) -> None:  # noqa: ANN001
             area = 2 * math.pi * g.radius * g.draft + 2 * math.pi * g.radius**2
         elif g.shape == "sphere":
             area = 3 * math.pi * g.radius**2
+        elif g.shape == "axisymmetric":  # the surface of revolution of the profile
+            area = sum(math.pi * (a[0] + b[0]) * math.hypot(b[0] - a[0], b[1] - a[1])
+                       for a, b in zip(g.profile[:-1], g.profile[1:], strict=False))
         else:
             length, width, height = g.size
             area = 2 * (length * width + length * height + width * height)

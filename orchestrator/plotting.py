@@ -59,10 +59,11 @@ def _active(d: np.ndarray) -> list[int]:
 
 
 def plot_time_series(f: h5py.File, target: Path) -> Path:
-    """Displacements, hydrodynamic forces, PTO power and wave elevation against time."""
+    """Displacements, hydrodynamic forces, PTO power, wave elevation and mooring-line tensions against time."""
     plt = _pyplot()
     t = f["time"][()]
-    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+    lines = list(f.get("forces", {}))
+    fig, axes = plt.subplots(4 + bool(lines), 1, figsize=(10, 11 + 2.5 * bool(lines)), sharex=True)
     for name in f.get("bodies", {}):
         d = f[f"bodies/{name}/displacement"][()]
         for j in _active(d):
@@ -80,9 +81,11 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
         axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
+    for name in lines:
+        axes[4].plot(t, np.linalg.norm(f[f"forces/{name}/force"][()], axis=1) / 1e3, label=name)
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
-    return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
-                 "time (s)", target)
+    labels = ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)")
+    return _save(plt, fig, axes, labels + (("fairlead tension (kN)",) if lines else ()), "time (s)", target)
 
 
 def mean_powers_of(f: h5py.File) -> tuple[dict[str, float], str]:

@@ -15,12 +15,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from mbd_fmu.moordyn_lines import SCHEMES as MOORDYN_SCHEMES
+
 from . import input_checks, schema
 from .errors import ScenarioError
 from .schema import identifier, non_negative, option, positive
 
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "axisymmetric", "mesh")
 FORMULATIONS = ("auto", "linear", "index3", "index1", "nullspace")
 INTEGRATORS = ("", "generalized_alpha", "rk4", "heun", "euler")
 JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
@@ -266,10 +268,20 @@ class GeometrySection:
     size: tuple[float, float, float] = option((0.0, 0.0, 0.0), unit="m", check=non_negative,
                                               doc="box length, width, height")
     mesh_file: str = option("", doc="mesh file (.obj, .stl, .gdf, ...), relative to the scenario file")
+    profile: list[tuple[float, float]] = option(
+        factory=list, unit="m",
+        doc="axisymmetric: [r, z] points of the hull's cross-section in a meridian half-plane, in order along the "
+            "surface (e.g. an annular float: outer wall from above the waterline down, bottom inwards, inner wall "
+            "up), revolved about the shape's vertical axis; faceted so that volumes and waterplane areas are exact")
+    dry_segments: list[int] = option(
+        factory=list,
+        doc="axisymmetric: indices (0 = first) of profile segments in contact with another body, e.g. a float's "
+            "bore on a spar's column: they close the body for its hydrostatics but are not wetted (left out of "
+            "the BEM mesh); give the neighbour's hull there as dry too (no water gap)")
     position: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="m",
         doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
-            "mesh: the file's origin)")
+            "axisymmetric: the profile's r = 0, z = 0; mesh: the file's origin)")
     rotation_deg: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="deg",
         doc="rotation of the shape about its origin: about the fixed x, then y, then z axis")
@@ -410,8 +422,48 @@ class ForceSection:
     length: float = option(0.0, unit="m", check=non_negative, doc="catenary: unstretched length")
     weight: float = option(0.0, unit="N/m", check=non_negative, doc="catenary: submerged weight per length")
     ea: float = option(0.0, unit="N", check=non_negative, doc="catenary: axial stiffness")
+    diameter: float = option(0.0, unit="m", check=non_negative,
+                             doc="catenary with MoorDyn: volume-equivalent line diameter (buoyancy, drag, added mass; "
+                                 "the mass per length is weight / g + rho pi diameter^2 / 4)")
+    segments: int = option(20, check=positive, doc="catenary with MoorDyn: number of lumped-mass segments")
+    drag_normal: float = option(1.2, check=non_negative, doc="catenary with MoorDyn: normal drag coefficient")
+    drag_axial: float = option(0.4, check=non_negative, doc="catenary with MoorDyn: axial drag coefficient")
+    added_mass_normal: float = option(1.0, check=non_negative,
+                                      doc="catenary with MoorDyn: normal added-mass coefficient")
+    added_mass_axial: float = option(0.0, check=non_negative, doc="catenary with MoorDyn: axial added-mass coefficient")
+    internal_damping: float = option(0.8, check=non_negative,
+                                     doc="catenary with MoorDyn: axial damping of each segment, fraction of critical")
     force: float = option(0.0, unit="N or N m", check=non_negative, doc="friction: Coulomb force or torque")
     velocity: float = option(1e-3, unit="m/s or rad/s", check=positive, doc="friction: regularisation velocity")
+
+
+MOORING_MODELS = ("quasi_static", "moordyn")
+
+
+@dataclass
+class MooringLinesSection:
+    """How the scene's `catenary` lines are computed (see docs/scenarios.md, RM3)."""
+
+    model: str = option(
+        "quasi_static", choices=MOORING_MODELS,
+        doc="`quasi_static`: the elastic catenary with sea-bed contact solved at every evaluation (cheap, no line "
+            "dynamics); `moordyn`: MoorDyn's lumped-mass line dynamics (drag, added mass and inertia of the lines) "
+            "stepped inside the multibody FMU, its state saved with the FMU state. The frequency-domain and "
+            "steady-state solvers always use the quasi-static lines")
+    time_step: float = option(0.001, unit="s", check=positive,
+                              doc="MoorDyn's own step dtM (sub-cycled within each multibody step); must stay below "
+                                  "each line's axial Courant limit, segment length / sqrt(EA / mass per length)")
+    scheme: str = option("RK2", choices=MOORDYN_SCHEMES,
+                         doc="MoorDyn's time scheme (explicit; RK2 is MoorDyn's default)")
+    seabed_stiffness: float = option(3.0e6, unit="Pa/m", check=positive,
+                                     doc="MoorDyn's sea-bed contact stiffness per unit area (the sea bed is at the "
+                                         "anchors' depth)")
+    seabed_damping: float = option(3.0e5, unit="Pa s/m", check=non_negative,
+                                   doc="MoorDyn's sea-bed contact damping per unit area")
+    ic_time: float = option(60.0, unit="s", check=positive,
+                            doc="longest dynamic relaxation of MoorDyn's initial line shapes")
+    ic_tolerance: float = option(1e-3, unit="m/s^2", check=positive,
+                                 doc="the relaxation stops when the largest node acceleration is below this")
 
 
 @dataclass
@@ -542,12 +594,15 @@ class Scenario:
     joints: list[JointSection] = field(default_factory=list, metadata={"doc": "joints"})
     forces: list[ForceSection] = field(default_factory=list, metadata={"doc": "force elements"})
     drivers: list[DriverSection] = field(default_factory=list, metadata={"doc": "prescribed motion"})
+    mooring_lines: MooringLinesSection = field(default_factory=MooringLinesSection,
+                                               metadata={"doc": "mooring-line model of the `catenary` forces"})
     rao: RaoSection = field(default_factory=RaoSection)
     steady: SteadySection = field(default_factory=SteadySection, metadata={"doc": "pseudo-spectral steady state"})
     control: ControlSection = field(default_factory=ControlSection)
     sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "sweeps and power matrices"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
+    _overrides: list[str] = field(default_factory=list, init=False, repr=False)  # `wec-cosim run --set` items
 
     @property
     def file(self) -> Path:
@@ -882,6 +937,7 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
             for key in ("length", "weight", "ea"):
                 if getattr(e, key) <= 0:
                     raise ScenarioError(f"{where}: a catenary line needs a positive {key}")
+    _check_mooring_lines(s, f)
     for i, d in enumerate(s.drivers):
         where = f"{f}: drivers[{i}] ({d.name})"
         if bool(d.joint) == bool(d.body):
@@ -917,12 +973,46 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
                                 "set dofs to translations only")
 
 
+def _check_mooring_lines(s: Scenario, f: str) -> None:
+    """MoorDyn lines: diameters, one sea bed, the axial Courant limit of MoorDyn's step."""
+    m = s.mooring_lines
+    if m.model != "moordyn":
+        return
+    lines = [(i, e) for i, e in enumerate(s.forces) if e.kind == "catenary"]
+    if not lines:
+        raise ScenarioError(f"{f}: mooring_lines.model = 'moordyn' but the scene has no force of kind 'catenary'")
+    depths = {round(e.anchor[2], 6) for _, e in lines}
+    if len(depths) > 1:
+        raise ScenarioError(f"{f}: mooring_lines.model = 'moordyn' needs every catenary anchor on one sea bed "
+                            f"(anchor z: {sorted(depths)} m)")
+    rho, g = s.environment.rho, s.environment.g
+    for i, e in lines:
+        where = f"{f}: forces[{i}] ({e.name})"
+        if e.diameter <= 0:
+            raise ScenarioError(f"{where}: mooring_lines.model = 'moordyn' needs the line's diameter (m)")
+        if e.anchor[2] >= e.fairlead[2]:
+            raise ScenarioError(f"{where}: the anchor must lie below the fairlead")
+        mass = e.weight / g + rho * math.pi * e.diameter ** 2 / 4
+        limit = e.length / e.segments / math.sqrt(e.ea / mass)
+        if m.time_step > limit:
+            raise ScenarioError(
+                f"{f}: mooring_lines.time_step ({m.time_step:g} s) exceeds the axial Courant limit of line {e.name!r}, "
+                f"{limit:.3g} s (segment {e.length / e.segments:.3g} m, axial wave speed {math.sqrt(e.ea / mass):.4g} "
+                "m/s): MoorDyn's explicit scheme would blow up; reduce the step or the number of segments")
+
+
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
     g = b.geometry
     needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",)}.get(g.shape, ())
     for key in needs:
         if getattr(g, key) <= 0:
             raise ScenarioError(f"{where}: geometry shape {g.shape!r} needs a positive {key}")
+    if g.shape == "axisymmetric" and (len(g.profile) < 2 or any(r < 0 for r, _ in g.profile)):
+        raise ScenarioError(f"{where}: geometry shape 'axisymmetric' needs profile = [[r, z], ...] with at least two "
+                            "points and r >= 0")
+    if any(not 0 <= i < len(g.profile) - 1 for i in g.dry_segments):
+        raise ScenarioError(f"{where}: geometry dry_segments {g.dry_segments} must be indices of profile segments "
+                            f"(0 to {len(g.profile) - 2})")
     if g.shape == "box" and min(g.size) <= 0:
         raise ScenarioError(f"{where}: geometry shape 'box' needs size = [length, width, height], all positive")
     if g.shape == "mesh":

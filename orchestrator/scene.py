@@ -57,7 +57,8 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid, rotation_deg=tuple(g.rotation_deg))
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)),
+                                dry_segments=tuple(g.dry_segments))
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -360,7 +361,9 @@ class Scene:
         moment = np.cross(np.asarray(hdb.cb[i]) - np.asarray(b.cg), force)
         return force.tolist() + moment.tolist()
 
-    def mbd_spec(self) -> dict:
+    def mbd_spec(self, *, dynamic_lines: bool = True) -> dict:
+        """The multibody FMU's specification; ``dynamic_lines=False`` gives MoorDyn lines as quasi-static
+        catenaries (the frequency-domain solvers' model)."""
         spec = self._linear_mbd_spec()
         s = self.scenario
         if s.formulation == "linear":
@@ -379,6 +382,8 @@ class Scene:
              "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
         kinds = {j.name: j.kind for j in s.joints}
         spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
+        if dynamic_lines and s.mooring_lines.model == "moordyn":
+            self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
         for p, out in zip(s.ptos, spec["ptos"], strict=True):
@@ -408,6 +413,19 @@ class Scene:
             d["damping"] = matrix(e.damping_matrix)
         return d
 
+    def _moordyn_spec(self, spec: dict) -> None:
+        """Mark the catenary lines for MoorDyn and add its solver options."""
+        s = self.scenario
+        m = s.mooring_lines
+        for e, d in zip(s.forces, spec["forces"], strict=True):
+            if e.kind == "catenary":
+                d.update(model="moordyn", diameter=e.diameter, segments=e.segments, drag_normal=e.drag_normal,
+                         drag_axial=e.drag_axial, added_mass_normal=e.added_mass_normal,
+                         added_mass_axial=e.added_mass_axial, internal_damping=e.internal_damping)
+        spec["moordyn"] = {"time_step": m.time_step, "scheme": m.scheme, "seabed_stiffness": m.seabed_stiffness,
+                           "seabed_damping": m.seabed_damping, "ic_time": m.ic_time, "ic_tolerance": m.ic_tolerance,
+                           "rho": s.environment.rho, "g": s.environment.g}
+
     @staticmethod
     def _driver_spec(d) -> dict:
         coordinate = ({"kind": "joint", "joint": d.joint, "index": 0} if d.joint
@@ -430,12 +448,13 @@ class Scene:
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
     def multibody_simulator(self, *, added_mass: bool = True):
-        """The nonlinear multibody model of the scene, assembled (for linearisation and tests)."""
+        """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
+        are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
         from mbd_fmu.spec import build_simulator
 
         idx = self.hydro_index()
         a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)] if added_mass else np.zeros((len(idx), len(idx)))
-        return build_simulator(self.mbd_spec(), a_inf)
+        return build_simulator(self.mbd_spec(dynamic_lines=False), a_inf)
 
     def _linear_mbd_spec(self) -> dict:
         s = self.scenario

@@ -68,7 +68,7 @@ class Recorder:
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
         """Results path -> multibody FMU outputs for the nonlinear formulations: per joint its coordinates,
         rates and reaction (force on body 2 from body 1 and moment about the joint point, world frame),
-        the energy account and the constraint violation."""
+        each mooring line's fairlead force on its body, the energy account and the constraint violation."""
         s = scene.scenario
         if s.formulation == "linear":
             return {}
@@ -82,6 +82,9 @@ class Recorder:
                 out[f"joints/{j.name}/rate"] = [f"{j.name}.rate[{i + 1}]" for i in range(k)]
             out[f"joints/{j.name}/force"] = [f"{j.name}.force[{i + 1}]" for i in range(3)]
             out[f"joints/{j.name}/moment"] = [f"{j.name}.moment[{i + 1}]" for i in range(3)]
+        for e in s.forces:
+            if e.kind == "catenary":  # mooring lines: fairlead force on the body (world frame)
+                out[f"forces/{e.name}/force"] = [f"{e.name}.force[{i + 1}]" for i in range(3)]
         for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
             out[f"energy/{key}"] = [f"energy.{key}"]
         out["mbd/constraint_violation"] = ["mbd.constraint_violation"]
@@ -213,7 +216,8 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
                 "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
-                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
+                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy"),
+                "overrides": list(scenario._overrides)}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
@@ -306,7 +310,10 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     except (OSError, KeyError, ValueError) as exc:
         raise WecCosimError(f"{results} is not a wec-cosim results file that can be resumed ({exc})") from None
     saved = read_checkpoint(checkpoint_path(results))
-    scenario = parse_scenario(text, scenario_file)
+    from .overrides import apply_overrides
+
+    scenario = apply_overrides(parse_scenario(text, scenario_file), stored.get("overrides", []))
+    scenario.simulation.duration = stored.get("duration", scenario.simulation.duration)  # `run --duration`
     if scenario.control.mode != "off":
         raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
                             "controller's own state is not in the checkpoint); run it again")
@@ -470,7 +477,8 @@ def radiation_report(plan: RunPlan) -> dict:
 
 def _run_statistics(plan: RunPlan) -> dict:
     sizes = plan.controller.sizes
-    out = {"macro_steps": plan.controller.steps, "master": plan.master.name}
+    out = {"macro_steps": plan.controller.steps, "master": plan.master.name,
+           "mooring_lines": plan.scene.scenario.mooring_lines.model}
     if sizes:
         out.update(smallest_step=min(sizes), largest_step=max(sizes), mean_step=float(np.mean(sizes)))
     its = getattr(plan.master, "iterations", [])
@@ -528,7 +536,9 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
-        lines.append("steady state against the exact frequency-domain solution:")
+        lines.append("steady state against the exact frequency-domain solution"
+                     + (" (mooring lines linearised quasi-statically: MoorDyn's line dynamics are not in it):"
+                        if result.statistics.get("mooring_lines") == "moordyn" else ":"))
         lines.append(f"  {'quantity':<24}{'co-simulation':>16}{'exact':>16}{'error':>10}{'phase err':>11}")
         for c in result.comparisons:
             phase = f"{c.phase_error_deg:+9.2f} deg" if not math.isnan(c.phase_error_deg) else ""

@@ -142,9 +142,9 @@ def _flatten(grid: dict[str, Any], scenario: Scenario, prefix: str = "") -> list
     return out
 
 
-def resolve_key(scenario: Scenario, path: str) -> tuple[Any, str]:
+def resolve_key(scenario: Scenario, path: str, what: str = "sweep.grid") -> tuple[Any, str]:
     """The dataclass holding key ``path`` and the field's name; lists of named items by name
-    (``ptos.<name>.damping``, ``bodies.<name>.geometry.radius``)."""
+    (``ptos.<name>.damping``, ``bodies.<name>.geometry.radius``); ``what`` names the setting in errors."""
     parts = path.split(".")
     target: Any = scenario
     i = 0
@@ -165,13 +165,13 @@ def resolve_key(scenario: Scenario, path: str) -> tuple[Any, str]:
             raise KeyError(name)
     except (AttributeError, StopIteration, KeyError):
         raise ScenarioError(
-            f"{scenario.file}: sweep.grid: {path!r} names no key of this scenario; use `section.key` (e.g. "
+            f"{scenario.file}: {what}: {path!r} names no key of this scenario; use `section.key` (e.g. "
             "`waves.hs`) or `<list>.<name>.key` for named items (e.g. `ptos.pto.damping`, `bodies.float.mass`)"
         ) from None
     hint = _scalar_type(target, name)
     if hint is None or name == "name":
-        raise ScenarioError(f"{scenario.file}: sweep.grid: {path!r} is not a single number, string or boolean "
-                            "and cannot be swept")
+        raise ScenarioError(f"{scenario.file}: {what}: {path!r} is not a single number, string or boolean "
+                            "and cannot be set")
     return target, name
 
 
@@ -269,16 +269,16 @@ def parse_grid_option(text: str) -> tuple[str, list[Any]]:
             raise ScenarioError(f"--grid {text!r}: COUNT must be at least 1")
         step = (stop - start) / (count - 1) if count > 1 else 0.0
         return key, [round(start + i * step, 12) for i in range(count)]
-    return key, [_toml_scalar(v.strip(), text) for v in rest.split(",")]
+    return key, [toml_scalar(v.strip(), text) for v in rest.split(",")]
 
 
-def _toml_scalar(value: str, text: str) -> Any:
+def toml_scalar(value: str, text: str) -> Any:
     try:
         return tomllib.loads(f"v = {value}")["v"]
     except tomllib.TOMLDecodeError:
         if value and all(c.isalnum() or c in "_-" for c in value):
             return value  # a bare word: a string choice such as jacobi
-        raise ScenarioError(f"--grid {text!r}: cannot read the value {value!r}") from None
+        raise ScenarioError(f"{text!r}: cannot read the value {value!r}") from None
 
 
 def set_grid(scenario: Scenario, key: str, values: list[Any]) -> None:

@@ -132,7 +132,7 @@ def test_seeds_come_from_the_sea_state_not_the_order(tmp_path) -> None:
 
 @pytest.mark.parametrize("grid, fragment", [
     ({"ptos": {"nobody": {"damping": [1.0]}}}, "names no key of this scenario"),
-    ({"waves": {"kind": ["regular"]}, "bodies": {"fore": {"cg": [[0, 0, 0]]}}}, "cannot be swept"),
+    ({"waves": {"kind": ["regular"]}, "bodies": {"fore": {"cg": [[0, 0, 0]]}}}, "cannot be set"),
     ({"ptos": {"pto_fore": {"damping": [-1.0]}}}, "sweep.grid.ptos.pto_fore.damping[0] must not be negative"),
     ({"waves": {"height": ["one"]}}, "sweep.grid.waves.height[0]: expected a number"),
     ({"waves": {"hs": [1.0, 2.0]}}, "waves.hs applies to irregular waves"),
