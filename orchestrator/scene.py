@@ -55,7 +55,7 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid, rotation_deg=tuple(g.rotation_deg))
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), sides=g.sides)
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -331,6 +331,29 @@ class Scene:
         return force.tolist() + moment.tolist()
 
     def mbd_spec(self) -> dict:
+        """The multibody FMU's specification; with ``multibody.static_equilibrium`` the bodies start from the
+        static equilibrium (their initial displacements added to it)."""
+        spec = self._mbd_spec_at_reference()
+        if self.scenario.multibody.static_equilibrium:
+            offsets = self.equilibrium().displacement
+            for b, offset in zip(spec["bodies"], offsets, strict=True):
+                b["x0"] = (np.asarray(b["x0"], float) + offset).tolist()
+        return spec
+
+    def equilibrium(self):
+        """The static equilibrium of the scene (:func:`orchestrator.equilibrium.scene_equilibrium`), computed once."""
+        if not hasattr(self, "_equilibrium"):
+            from .equilibrium import scene_equilibrium
+
+            self._equilibrium = scene_equilibrium(self)
+        return self._equilibrium
+
+    def linearisation_pose(self, model):
+        """Pose the frequency domain linearises about: the static equilibrium if the scene asks for it, else the
+        reference pose."""
+        return self.equilibrium().pose if self.scenario.multibody.static_equilibrium else model.reference
+
+    def _mbd_spec_at_reference(self) -> dict:
         spec = self._linear_mbd_spec()
         s = self.scenario
         if s.formulation == "linear":
