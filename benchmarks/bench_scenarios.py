@@ -32,6 +32,8 @@ SCENARIOS: list[tuple[str, str]] = [
     ("cylinder_regular.toml", "one float, heave, regular waves"),
     ("cylinder_irregular.toml", "one float, heave, irregular sea"),
     ("hinge_barge.toml", "seed 003 two-body hinge barge, index-3"),
+    ("nenuphar.toml", "seed 001 Nenuphar: 7 bodies, 6 hinges, tether, 6 catenaries"),
+    ("mathai_assembly.toml", "seed 001 Mathai's three hinged rafts, finite depth"),
 ]
 
 

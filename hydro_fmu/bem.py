@@ -213,7 +213,10 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> 
     test = xr.Dataset(coords={"omega": omega, "wave_direction": headings, **common})
     try:
         ds = solver.fill_dataset(test, system, progress_bar=False)
-        ds_inf = solver.fill_dataset(xr.Dataset(coords={"omega": [np.inf], **common}), system, progress_bar=False)
+        # Infinite frequency with Capytaine's default Green function: Nemoh's Fortran decomposition returns NaN
+        # there (the bottom is still taken into account by the default one in finite depth).
+        solver_inf = cpt.BEMSolver(method=settings.method)
+        ds_inf = solver_inf.fill_dataset(xr.Dataset(coords={"omega": [np.inf], **common}), system, progress_bar=False)
     except Exception as exc:  # Capytaine raises its own types (e.g. GreenFunctionEvaluationError on NaN)
         names = ", ".join(repr(b.name) for b in bodies)
         raise HydroDatabaseError(f"Capytaine failed for bodies {names}: {type(exc).__name__}: {exc}") from None
@@ -254,10 +257,11 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None) -> 
 
 
 def _green_function(water_depth: float):
-    """Capytaine's Delhommeau Green function; in finite depth with Nemoh's Fortran Prony decomposition of the
-    wave term. Capytaine 3.0's default Python decomposition fails below kh of about 0.15 (every coefficient
-    NaN; e.g. below 0.15 rad/s in 15 m of water, or 0.2 rad/s in the 1.5 m of seed 003's tank); the Fortran one
-    converges there and agrees with it to 1e-4 from 0.5 rad/s up in 15 m (``docs/mathai_assembly.md``)."""
+    """Capytaine's Delhommeau Green function at finite frequencies; in finite depth with Nemoh's Fortran Prony
+    decomposition of the wave term. Capytaine 3.0's default Python decomposition fails below kh of about 0.15
+    (every coefficient NaN; e.g. below 0.15 rad/s in 15 m of water, or 0.2 rad/s in the 1.5 m of seed 003's
+    tank); the Fortran one converges there and agrees with it to 1e-4 from 0.5 rad/s up in 15 m
+    (``docs/mathai_assembly.md``). It returns NaN at infinite frequency, which is solved with the default."""
     import capytaine as cpt
 
     if math.isinf(water_depth):

@@ -32,7 +32,10 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     try:
         with h5py.File(path, "r", swmr=True) as f:
             if "omega" in f:
-                return [plot_rao(f, out / f"{path.stem}_rao.png")]
+                figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
+                if "heading_sweep/joints" in f or "heading_sweep/ptos" in f:
+                    figures.append(plot_heading_sweep(f, out / f"{path.stem}_headings.png"))
+                return figures
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
@@ -98,6 +101,41 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
         axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
     return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
                  "wave frequency (rad/s)", target)
+
+
+def plot_heading_sweep(f: h5py.File, target: Path) -> Path:
+    """One column per heading of a RAO file's heading sweep: joint coordinate RAOs (deg or m per m of wave
+    amplitude) and mean PTO power per m^2 of wave amplitude."""
+    plt = _pyplot()
+    omega = f["omega"][()]
+    g = f["heading_sweep"]
+    headings = g["headings_deg"][()]
+    rows = 2 if "ptos" in g else 1
+    fig, axes = plt.subplots(rows, len(headings), figsize=(4.2 * len(headings), 3.5 * rows + 0.5), sharex=True,
+                             sharey="row", squeeze=False)
+    for k, heading in enumerate(headings):
+        for name in g.get("joints", {}):
+            ds = g[f"joints/{name}/rao"]
+            for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
+                rotation = "angle" in coordinate or "rotation" in coordinate
+                values = np.abs(ds[k, :, i])
+                axes[0, k].plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
+        for name in g.get("ptos", {}):
+            axes[1, k].plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+        axes[0, k].set_title(f"heading {heading:g} deg")
+        axes[-1, k].set_xlabel("wave frequency (rad/s)")
+        for ax in axes[:, k]:
+            ax.grid(True, alpha=0.3)
+    axes[0, 0].set_ylabel("|joint RAO| (deg/m, m/m)")
+    if rows == 2:
+        axes[1, 0].set_ylabel("mean power (kW per m^2)")
+    for ax in axes[:, -1]:
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target
 
 
 def plot_steady(f: h5py.File, target: Path) -> Path:

@@ -194,6 +194,7 @@ headings_deg = [0.0, 15.0, 30.0]
 [multibody]
 formulation = "index3"
 spectral_radius = 0.8
+static_equilibrium = true  # the lines and the tether pull the hub down: found and reported before waves start
 '''
 
 if __name__ == "__main__":
