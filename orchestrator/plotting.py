@@ -33,7 +33,7 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
         with h5py.File(path, "r", swmr=True) as f:
             if "omega" in f:
                 figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
-                if "heading_sweep/joints" in f or "heading_sweep/ptos" in f:
+                if "heading_sweep" in f:
                     figures.append(plot_heading_sweep(f, out / f"{path.stem}_headings.png"))
                 return figures
             if "periods" in f:
@@ -105,33 +105,36 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
 
 def plot_heading_sweep(f: h5py.File, target: Path) -> Path:
     """One column per heading of a RAO file's heading sweep: joint coordinate RAOs (deg or m per m of wave
-    amplitude) and mean PTO power per m^2 of wave amplitude."""
+    amplitude), every body's heave RAO, and the mean PTO power per m^2 of wave amplitude."""
     plt = _pyplot()
     omega = f["omega"][()]
     g = f["heading_sweep"]
     headings = g["headings_deg"][()]
-    rows = 2 if "ptos" in g else 1
-    fig, axes = plt.subplots(rows, len(headings), figsize=(4.2 * len(headings), 3.5 * rows + 0.5), sharex=True,
-                             sharey="row", squeeze=False)
+    panels = [p for p in ("joints", "bodies", "ptos") if p in g]
+    fig, axes = plt.subplots(len(panels), len(headings), figsize=(4.2 * len(headings), 3.3 * len(panels) + 0.5),
+                             sharex=True, sharey="row", squeeze=False)
     for k, heading in enumerate(headings):
-        for name in g.get("joints", {}):
-            ds = g[f"joints/{name}/rao"]
-            for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
-                rotation = "angle" in coordinate or "rotation" in coordinate
-                values = np.abs(ds[k, :, i])
-                axes[0, k].plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
-        for name in g.get("ptos", {}):
-            axes[1, k].plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+        for row, panel in enumerate(panels):
+            ax = axes[row, k]
+            for name in g[panel]:
+                if panel == "joints":
+                    ds = g[f"joints/{name}/rao"]
+                    for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
+                        values = np.abs(ds[k, :, i])
+                        rotation = "angle" in coordinate or "rotation" in coordinate
+                        ax.plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
+                elif panel == "bodies":
+                    ax.plot(omega, np.abs(g[f"bodies/{name}/rao"][k, :, 2]), label=f"{name} heave")
+                else:
+                    ax.plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+            ax.grid(True, alpha=0.3)
         axes[0, k].set_title(f"heading {heading:g} deg")
         axes[-1, k].set_xlabel("wave frequency (rad/s)")
-        for ax in axes[:, k]:
-            ax.grid(True, alpha=0.3)
-    axes[0, 0].set_ylabel("|joint RAO| (deg/m, m/m)")
-    if rows == 2:
-        axes[1, 0].set_ylabel("mean power (kW per m^2)")
-    for ax in axes[:, -1]:
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(loc="upper right", fontsize=7)
+    labels = {"joints": "|joint RAO| (deg/m, m/m)", "bodies": "|heave RAO| (m/m)", "ptos": "mean power (kW per m^2)"}
+    for row, panel in enumerate(panels):
+        axes[row, 0].set_ylabel(labels[panel])
+        if axes[row, -1].get_legend_handles_labels()[0]:
+            axes[row, -1].legend(loc="upper right", fontsize=7)
     fig.tight_layout()
     fig.savefig(target, dpi=110)
     plt.close(fig)

@@ -100,3 +100,24 @@ def test_time_domain_against_the_frequency_domain_at_five_frequencies(scene, hea
         for hinge in ("hinge1", "hinge2"):
             td, exact = r[f"{hinge} 0"], fd.joint_rao[hinge][0, 0]
             assert abs(abs(td) / abs(exact) - 1) < 0.02, (omega, hinge, td, exact)
+
+
+def test_rao_file_and_heading_figure_carry_the_breakover_angles(scene, curves, tmp_path) -> None:
+    """`wec-cosim rao` writes the joints' RAOs per heading and `wec-cosim plot` draws them, one column per heading."""
+    import h5py
+    from matplotlib.image import imread
+
+    from orchestrator.plotting import plot_file
+    from orchestrator.response_files import write_rao_file
+
+    path = tmp_path / "mathai.h5"
+    write_rao_file(scene, path)
+    with h5py.File(path) as f:
+        omega = f["omega"][()]
+        sweep = f["heading_sweep/joints/hinge1/rao"][()]
+        assert list(f["heading_sweep/headings_deg"][()]) == [0.0, 45.0]
+    k = int(np.argmin(np.abs(OMEGA - omega[10])))
+    assert sweep[1, 10, 0] == pytest.approx(curves[45.0].joint_rao["hinge1"][k, 0], rel=1e-9)
+    figures = plot_file(path, tmp_path / "png")
+    assert [p.name for p in figures] == ["mathai_rao.png", "mathai_headings.png"]
+    assert imread(figures[1]).shape[1] > imread(figures[1]).shape[0]  # two columns side by side
