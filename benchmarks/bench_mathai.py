@@ -22,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from common import write_report
+from common import pyplot, save_figure, write_report
 
 from orchestrator import frequency_domain
 from orchestrator.analysis import steady_response
@@ -85,11 +85,7 @@ def main(argv: list[str] | None = None) -> None:
 
 
 def figure(grid: np.ndarray, curves: dict, points: list, target: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(curves), figsize=(6 * len(curves), 4.5), sharey=True, squeeze=False)
     colours = {"hinge1": "tab:blue", "hinge2": "tab:orange"}
     for ax, (h, fd) in zip(axes[0], curves.items(), strict=True):
@@ -105,11 +101,7 @@ def figure(grid: np.ndarray, curves: dict, points: list, target: Path) -> None:
     axes[0, 0].set_ylabel("breakover angle (deg per ft of wave amplitude)")
     axes[0, -1].legend(fontsize=8)
     fig.suptitle("Mathai's triple modular assembly (50 ft of water)", fontsize=10)
-    fig.tight_layout()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(target, dpi=110)
-    plt.close(fig)
-    print(f"figure: {target}")
+    save_figure(fig, target)
 
 
 if __name__ == "__main__":

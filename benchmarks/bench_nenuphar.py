@@ -29,7 +29,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from common import write_report
+from common import pyplot, save_figure, write_report
 
 from orchestrator import frequency_domain
 from orchestrator.analysis import steady_response
@@ -125,11 +125,7 @@ def main(argv: list[str] | None = None) -> None:
 
 
 def figure(scene: Scene, points: list, heading: float, target: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     omega = np.linspace(0.4, 3.0, 131)
     fd = frequency_domain_answer(scene, omega, heading)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
@@ -158,11 +154,7 @@ def figure(scene: Scene, points: list, heading: float, target: Path) -> None:
     axes[1].legend(unique.values(), unique.keys(), fontsize=7)
     fig.suptitle(f"Nenuphar, heading {heading:g} deg: markers time domain (filled: linear hydrodynamics, open: "
                  "nonlinear hydrostatics and Froude-Krylov), circles 0.5 m, squares 1.0 m, triangles 1.5 m", fontsize=9)
-    fig.tight_layout()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(target, dpi=110)
-    plt.close(fig)
-    print(f"figure: {target}")
+    save_figure(fig, target)
 
 
 if __name__ == "__main__":
