@@ -24,22 +24,22 @@ import numpy as np
 
 
 def regular_prism_mesh(sides: int, radius: float, draft: float, panel_size: float,
-                       freeboard: float | None = None, name: str | None = None, vertical_panel_size: float = 0.0):
+                       freeboard: float | None = None, name: str | None = None):
     """Capytaine mesh of the closed prism (see the module docstring); lengths in m."""
     import capytaine as cpt
 
-    vertices, faces = regular_prism_panels(sides, radius, draft, panel_size, freeboard, vertical_panel_size)
+    vertices, faces = regular_prism_panels(sides, radius, draft, panel_size, freeboard)
     return cpt.Mesh(vertices=vertices, faces=faces, name=name)
 
 
 def regular_prism_panels(sides: int, radius: float, draft: float, panel_size: float,
-                         freeboard: float | None = None, vertical_panel_size: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) and quadrilateral faces (F, 4) of the prism, normals outward; the side's rows are
-    ``vertical_panel_size`` high (default ``panel_size``, at least two rows below the waterline)."""
+                         freeboard: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) and quadrilateral faces (F, 4) of the prism, normals outward (at least two rows of
+    side panels below the waterline)."""
     if sides < 3 or radius <= 0 or draft <= 0 or panel_size <= 0:
         raise ValueError("a regular prism needs at least 3 sides and a positive radius, draft and panel size")
     freeboard = draft if freeboard is None else freeboard
-    vertices, faces = _half_sector(sides, radius, draft, freeboard, panel_size, vertical_panel_size or panel_size)
+    vertices, faces = _half_sector(sides, radius, draft, freeboard, panel_size)
     mirrored = vertices * np.array([1.0, -1.0, 1.0])
     piece_v = np.concatenate([vertices, mirrored])
     piece_f = np.concatenate([faces, faces[:, ::-1] + len(vertices)])  # reversed order keeps normals outward
@@ -61,7 +61,7 @@ def _repeat_last(faces: np.ndarray) -> np.ndarray:
 
 
 def _half_sector(sides: int, radius: float, draft: float, freeboard: float,
-                 panel_size: float, vertical: float) -> tuple[np.ndarray, np.ndarray]:
+                 panel_size: float) -> tuple[np.ndarray, np.ndarray]:
     """Bottom, deck and side panels of the half-sector between the angles 0 and pi / sides."""
     apothem = radius * math.cos(math.pi / sides)
     half_side = radius * math.sin(math.pi / sides)
@@ -86,8 +86,8 @@ def _half_sector(sides: int, radius: float, draft: float, freeboard: float,
     cap(-draft, up=False)
     cap(freeboard, up=True)
     n_y = max(1, math.ceil(half_side / panel_size))  # as the outer ring
-    z = np.concatenate([np.linspace(-draft, 0.0, max(2, math.ceil(draft / vertical)) + 1),
-                        np.linspace(0.0, freeboard, max(1, math.ceil(freeboard / vertical)) + 1)[1:]])
+    z = np.concatenate([np.linspace(-draft, 0.0, max(2, math.ceil(draft / panel_size)) + 1),
+                        np.linspace(0.0, freeboard, max(1, math.ceil(freeboard / panel_size)) + 1)[1:]])
     y = np.linspace(0.0, half_side, n_y + 1)
     start = len(vertices)
     for zk in z:

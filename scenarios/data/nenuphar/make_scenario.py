@@ -160,7 +160,7 @@ HEADER = '''# Nenuphar seven-body wave energy converter of seed 001 (Table 1), w
 # Table 2), six catenary mooring lines from the hexagon's corners. Lateral body k lies at 60 (k - 1) deg;
 # at heading 0 the waves meet body 4 first and body 1 last (the paper's Figure 5).
 name = "nenuphar"
-description = "Seed 001 Nenuphar: hexagonal hub, six hinged rafts with rotary damper PTOs, tethered heave PTO, catenary mooring"
+description = "Seed 001 Nenuphar: hexagonal hub, six hinged rafts with rotary PTOs, tethered heave PTO, catenaries"
 
 [simulation]
 duration = 72.0          # s: 15 periods
