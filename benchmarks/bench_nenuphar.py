@@ -9,11 +9,10 @@ hydrostatic and Froude-Krylov forces integrated over the instantaneous wetted hu
 1-1.5 m waves). The
 steady first harmonic of the six hinge angles, the central heave and the mean PTO powers are
 compared with the exact linear frequency-domain answer (per metre of amplitude). The report gives
-the errors (the acceptance of issue 14 is 1 % and 2 deg at 0.5 m), how settled each run is (``settled``: the
-change of the hinges' first harmonics from the 3 periods before the fitted ones, relative to the largest), the
-wall time and real-time factor of every run; the figure the hinge-angle and heave RAOs against frequency,
-frequency domain as lines, time domain as markers per amplitude. With ``--nonlinear`` the runs at 0.5 m and
-above did not reach a periodic state (docs/nenuphar.md): their markers are not steady amplitudes.
+the errors (the acceptance of issue 14 is 1 % and 2 deg at 0.5 m), the wall time and real-time factor of every
+run; the figure the hinge-angle and heave RAOs against frequency, frequency domain as lines, time domain as
+markers per amplitude. With ``--nonlinear`` the runs at 0.5 m and above did not reach a periodic state
+(docs/nenuphar.md): their first harmonics over the last 3 periods are not steady amplitudes.
 
 Run (slow: one run is 15 wave periods of the seven-body model):
 
