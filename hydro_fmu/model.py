@@ -228,9 +228,11 @@ class HydroModel:
                 self._scale_floors(table))
             return RadiationMemory(self.kernel, self.dt)
         floors = self._scale_floors(self.kernel)
+        body = self.index // 6  # one realisation per pair of bodies (order proportional to what couples)
+        groups = [np.nonzero(body == b)[0] for b in np.unique(body)]
         fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
                               o.state_space_max_order,
-                              kernel_function=lambda t: impulse_response(*table, t), floors=floors)
+                              kernel_function=lambda t: impulse_response(*table, t), floors=floors, groups=groups)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error

@@ -242,7 +242,8 @@ class MultibodySlave(VectorSlave):
     def _update_motion(self) -> None:
         sim = self.system
         slots = self._input_slots
-        disp = sim.model.displacement(sim.formulation.pose)
+        compiled = sim.compiled_outputs()
+        disp = compiled["displacement"] if compiled is not None else sim.model.displacement(sim.formulation.pose)
         self.array("x")[:] = sim.displacement(disp)[slots]
         self.array("v")[:] = sim.velocity()[slots]
         for i, b in enumerate(self.spec["bodies"]):

@@ -17,8 +17,10 @@ status 2; nothing already computed is lost.
 from __future__ import annotations
 
 import argparse
+import math
 import shutil
 import sys
+import typing
 from pathlib import Path
 
 import h5py
@@ -34,12 +36,36 @@ def _scenario(path: str):
     return load_scenario(path)
 
 
+def _override_duration(scenario, duration: float) -> None:  # noqa: ANN001 - Scenario
+    """Set ``simulation.duration`` from ``--duration`` and check it as the scenario's own value."""
+    from . import input_checks
+    from .errors import ScenarioError
+    from .scenario import _check_simulation
+
+    scenario.simulation.duration = duration
+    try:
+        _check_simulation(scenario)
+        input_checks.check_limits(scenario)
+    except ScenarioError as exc:
+        raise ScenarioError(f"{exc} (simulation.duration was set by --duration {duration:g})") from None
+
+
+def _out(value: str, kind: str = "hdf5") -> Path:
+    from .input_checks import check_output
+
+    if not value:
+        raise WecCosimError("--out: an empty path is not usable; give a file name")
+    return check_output(Path(value), "--out", kind=kind)
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from .simulation import format_summary, run_scenario
 
     scenario = _scenario(args.scenario)
     if args.duration is not None:
-        scenario.simulation.duration = args.duration
+        _override_duration(scenario, args.duration)
+    if args.out is not None:
+        _out(args.out)
     result = run_scenario(scenario, args.out, in_process=args.in_process, progress=not args.quiet)
     print(format_summary(result))
     return 0
@@ -52,8 +78,8 @@ def cmd_rao(args: argparse.Namespace) -> int:
     scenario = _scenario(args.scenario)
     if args.form:
         scenario.rao.form = args.form
-    scene = load_scene(scenario)
-    out = Path(args.out)
+    out = _out(args.out)
+    scene = load_scene(scenario, progress=True)
     responses = write_rao_file(scene, out)
     print(f"RAOs ({responses[0].form} form) at {len(responses[0].omega)} frequencies and {len(responses)} "
           f"heading(s) written to {out}")
@@ -66,9 +92,14 @@ def cmd_steady(args: argparse.Namespace) -> int:
     from .scene import load_scene
 
     scenario = _scenario(args.scenario)
-    scene = load_scene(scenario)
-    out = Path(args.out)
+    out = _out(args.out)
+    scene = load_scene(scenario, progress=True)
     states = write_steady_file(scene, out, args.harmonics, args.form)
+    bad = [st for st in states if not (math.isfinite(st.residual) and all(map(math.isfinite, st.pto_power.values())))]
+    if bad:
+        raise WecCosimError(f"{scenario.file}: the steady state at T = {bad[0].period:g} s is not finite (residual "
+                            f"{bad[0].residual:g}): the scene's values (masses, stiffnesses, wave) are out of any "
+                            f"physical range; check them (the file {out} holds the failed solve)")
     for st in states:
         powers = ", ".join(f"{name} {p:.5g} W" for name, p in st.pto_power.items())
         print(f"T = {st.period:g} s, {st.harmonics} harmonics ({st.form}): mean power {powers or 'no PTO'}")
@@ -89,7 +120,7 @@ def cmd_hydro(args: argparse.Namespace) -> int:
     from .scene import load_database
 
     scenario = _scenario(args.scenario)
-    hdb, path = load_database(scenario, refresh=args.refresh)
+    hdb, path = load_database(scenario, refresh=args.refresh, progress=True)
     print(f"{path}: {hdb.n_bodies} bodies, {len(hdb.omega)} frequencies "
           f"{hdb.omega[0]:g}..{hdb.omega[-1]:g} rad/s, {len(hdb.headings)} headings ({hdb.source})")
     return 0
@@ -99,9 +130,10 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
     from .fmu_builder import build_scene_fmus
     from .scene import load_scene
 
-    scene = load_scene(_scenario(args.scenario))
+    scenario = _scenario(args.scenario)
+    out = _out(args.out, kind="dir")
+    scene = load_scene(scenario, progress=True)
     fmus = build_scene_fmus(scene)
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     for kind, path in fmus.items():
         target = out / f"{scene.scenario.name}_{kind}.fmu"
@@ -115,13 +147,17 @@ def cmd_controller(args: argparse.Namespace) -> int:
 
     try:
         return run_example(args)
-    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError) as exc:
+    except (TimeoutError, RuntimeError, FileNotFoundError, TypeError, ValueError) as exc:
         raise WecCosimError(f"controller {args.name!r}: {exc}") from None
+
+
 def cmd_export_ssp(args: argparse.Namespace) -> int:
     from .scene import load_scene
     from .ssp import export_ssp
 
-    scene = load_scene(_scenario(args.scenario))
+    scenario = _scenario(args.scenario)
+    _out(args.out, kind="file")
+    scene = load_scene(scenario, progress=True)
     path = export_ssp(scene, args.out)
     print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
           f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
@@ -150,6 +186,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     scenario = _scenario(args.scenario)
     if args.method:
         scenario.sweep.method = args.method
+    _out(args.out)
     path = run_sweep(scenario, args.out)
     with h5py.File(path, "r") as f:
         values, periods = f["values"][()], f["periods"][()]
@@ -163,13 +200,40 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _positive_seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text} s: give a positive, finite duration in seconds")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value}: give a whole number of at least 1")
+    return value
+
+
+class _Parser(argparse.ArgumentParser):
+    """Option errors as one paragraph, like every other error (exit status 2)."""
+
+    def error(self, message: str) -> typing.NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
-    sub = p.add_subparsers(dest="command", required=True)
+    p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("run", help="run a time-domain co-simulation")
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")
-    r.add_argument("--duration", type=float, help="override simulation.duration (s)")
+    r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)
@@ -182,7 +246,7 @@ def parser() -> argparse.ArgumentParser:
     y = sub.add_parser("steady", help="pseudo-spectral periodic steady state in regular waves (nonlinear forces)")
     y.add_argument("scenario")
     y.add_argument("--out", required=True, help="output HDF5 file")
-    y.add_argument("--harmonics", type=int, help="override steady.harmonics")
+    y.add_argument("--harmonics", type=_positive_int, help="override steady.harmonics")
     y.add_argument("--form", choices=("dae", "ode"), help="override steady.form")
     y.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     y.set_defaults(func=cmd_steady)
@@ -223,8 +287,26 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except (WecCosimError, HydroDatabaseError) as exc:
-        print(f"wec-cosim {args.command}: error: {exc}", file=sys.stderr)
+        print(f"wec-cosim {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except OSError as exc:  # the machine's limits: disk full, permissions, file-size limit
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"wec-cosim {args.command}: error: {exc.strerror or exc}{where}; free space or choose another output "
+              "path (nothing computed before the error is lost)", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"wec-cosim {args.command}: error: out of memory; reduce the scenario's sizes (duration/step, "
+              "frequency grids, wave components)", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"wec-cosim {args.command}: interrupted (a results file keeps its rows, status 'interrupted')",
+              file=sys.stderr)
+        return 130
+
+
+def _one_line(exc: BaseException) -> str:
+    """One paragraph: messages that quote multi-line text keep it on one line."""
+    return " ".join(str(exc).split("\n"))
 
 
 if __name__ == "__main__":

@@ -31,6 +31,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if "parameter" in f.attrs and "values" in f:
+                raise WecCosimError(f"plot: {path} is a sweep file (wec-cosim sweep); it has no figure yet: read "
+                                    "ptos/<name>/mean_power against values and periods with h5py")
             if "omega" in f:
                 figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
                 if "heading_sweep" in f:
@@ -42,6 +45,9 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
                 return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
+    except (KeyError, ValueError, IndexError) as exc:
+        raise WecCosimError(f"plot: {path} lacks what its figure needs ({type(exc).__name__}: {exc}); is it a "
+                            "complete wec-cosim file?") from None
     raise WecCosimError(f"plot: {path} is neither a results file (/time), a RAO file (/omega) nor a steady-state "
                         "file (/periods)")
 
@@ -63,14 +69,36 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
             force = f[f"bodies/{name}/hydro_force"][()]
             for j in _active(force):
                 axes[1].plot(t, force[:, j], label=f"{name} {DOFS[j]}")
+    means, where = mean_powers_of(f)
     for name in f.get("ptos", {}):
         p = f[f"ptos/{name}/power"][()]
-        axes[2].plot(t, p / 1e3, label=f"{name} (mean {np.mean(p) / 1e3:.3g} kW)")
+        mean = f", mean {means[name] / 1e3:.4g} kW" if name in means else ""
+        axes[2].plot(t, p / 1e3, label=f"{name}{mean}")
+    if means:
+        axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
     return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
                  "time (s)", target)
+
+
+def mean_powers_of(f: h5py.File) -> tuple[dict[str, float], str]:
+    """The PTOs' mean power over the run summary's window (:func:`analysis.mean_pto_powers`), from the
+    scenario stored in the file; none if the file holds no readable scenario."""
+    import tomllib
+
+    from . import schema
+    from .analysis import mean_pto_powers
+    from .errors import ScenarioError
+    from .scenario import Scenario
+
+    try:
+        text = f.attrs["scenario"]
+        scenario = schema.load(Scenario, tomllib.loads(text if isinstance(text, str) else text.decode()), f.filename)
+        return mean_pto_powers(scenario, f)
+    except (KeyError, ValueError, TypeError, ScenarioError, tomllib.TOMLDecodeError):
+        return {}, ""
 
 
 def _save(plt, fig, axes, ylabels: tuple[str, ...], xlabel: str, target: Path) -> Path:  # noqa: ANN001

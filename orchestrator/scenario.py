@@ -9,13 +9,14 @@ default is in ``docs/scenario.md``, generated from this module (``python -m orch
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from hydro_fmu.bem_symmetry import symmetry_error
 
-from . import schema
+from . import input_checks, schema
 from .errors import ScenarioError
 from .schema import identifier, non_negative, option, positive
 
@@ -100,7 +101,9 @@ class SimulationSection:
     iqn_reuse: int = option(4, check=non_negative, doc="IQN-ILS: previous steps whose secant data are reused")
     divergence_limit: float = option(
         1.0e8, check=positive,
-        doc="an exchanged or recorded value larger than this (SI units) stops the run as diverged")
+        doc="an exchanged or recorded value larger than this times its scale in the scene stops the run as "
+            "diverged; the scale is the larger of 1 and the value at the start (SI units), for energies also the "
+            "bodies' weight and static loads times 1 m")
     adaptive: AdaptiveSection = field(default_factory=AdaptiveSection,
                                       metadata={"doc": "energy-based adaptive step"})
     output: str = option("", doc="results file (HDF5); default `results/<name>.h5` in the working directory")
@@ -589,22 +592,22 @@ class Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file; raises :class:`ScenarioError` on any problem."""
     path = Path(path)
-    if not path.is_file():
-        raise ScenarioError(f"scenario file {path} does not exist")
-    text = path.read_text()
-    return parse_scenario(text, path)
+    return parse_scenario(input_checks.read_scenario_text(path), path)
 
 
 def parse_scenario(text: str, path: Path) -> Scenario:
+    input_checks.check_nesting(text, path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise ScenarioError(f"{path}: arrays or tables nested too deeply") from None
     scenario = schema.load(Scenario, data, str(path))
     scenario._file = path
     scenario._text = text
     if not scenario.name:
-        scenario.name = path.stem
+        scenario.name = re.sub(r"[^A-Za-z0-9_.+-]", "_", path.stem).lstrip(".-")[:100] or "scenario"
     _check(scenario)
     return scenario
 
@@ -661,7 +664,11 @@ def _check(s: Scenario) -> None:
             (f"hydro.omega_refine[{i}]", r) for i, r in enumerate(s.hydro.omega_refine)]:
         if g.stop <= g.start:
             raise ScenarioError(f"{f}: {key}: stop must be larger than start")
+    if s.rao.omega is not None and s.rao.omega.stop < s.rao.omega.start:
+        raise ScenarioError(f"{f}: rao.omega: stop must not be smaller than start")
     _check_simulation(s)
+    input_checks.check_limits(s)
+    input_checks.check_files(s)
 
 
 def _check_simulation(s: Scenario) -> None:
@@ -725,8 +732,7 @@ def _check_control(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: [control] drives the PTO inputs of the multibody FMU at a fixed period: it needs a co-simulation "
             "master (not 'monolithic'), fixed steps (no [simulation.adaptive]) and added_mass = 'mass_matrix'")
-    if c.zenoh_config and not s.resolve(c.zenoh_config).is_file():
-        raise ScenarioError(f"{f}: control.zenoh_config: file {s.resolve(c.zenoh_config)} does not exist")
+    input_checks.check_control(s)
 
 
 def _check_waves(s: Scenario) -> None:

@@ -27,6 +27,7 @@ from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
 
 from .errors import ScenarioError
+from .progress import BemProgress
 from .scenario import DOFS, BodySection, Scenario
 
 HYDRO = "hydro"
@@ -67,8 +68,12 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
     return bodies, settings
 
 
-def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tuple[HydroDatabase, Path]:
-    """The scenario's database (file named in the scenario, or Capytaine through the cache)."""
+def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
+                  progress: bool = False) -> tuple[HydroDatabase, Path]:
+    """The scenario's database (file named in the scenario, or Capytaine through the cache).
+
+    A Capytaine solve is announced in ``log`` and, with ``progress``, shown frequency by frequency
+    on standard error (:class:`BemProgress`)."""
     if not scenario.hydro_bodies:
         raise ScenarioError(f"{scenario.file}: no body has hydrodynamics")
     if scenario.hydro.database:
@@ -77,10 +82,15 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tu
     else:
         bodies, settings = bem_inputs(scenario)
         cache = scenario.resolve(scenario.hydro.cache_dir)
-        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh,
-                                              log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        shown = BemProgress(len(settings.headings_deg), log=log, enabled=progress)
+        try:
+            hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh, progress=shown,
+                                                  log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        finally:
+            shown.close()
         if log is not None:
-            log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
+            log(f"computed hydrodynamic database {path} in {shown.elapsed:.0f} s" if computed
+                else f"cached hydrodynamic database {path}")
     sub = _match_bodies(scenario, hdb)
     _check_coefficients(scenario, sub)
     if scenario.hydro.added_mass_inf == "ogilvie":
@@ -468,6 +478,29 @@ def _sorted_dofs(b: BodySection) -> list[str]:
     return sorted(b.dofs, key=DOFS.index)
 
 
-def load_scene(scenario: Scenario, *, refresh: bool = False, log=print) -> Scene:
-    hdb, path = load_database(scenario, refresh=refresh, log=log)
+def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:
+    """The scenario resolved against its database (computed if needed, see :func:`load_database`)."""
+    hdb, path = load_database(scenario, refresh=refresh, log=log, progress=progress)
+    check_wave_range(scenario, hdb, path)
     return Scene(scenario, hdb, path)
+
+
+def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
+    """Regular wave periods (waves, steady, sweep) and an irregular sea's peak inside the database's
+    frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    w, f = scenario.waves, scenario.file
+    lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
+    periods = []
+    if w.kind == "regular":
+        periods.append(("waves.period", w.period))
+    periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
+    periods += [(f"sweep.periods[{i}]", p) for i, p in enumerate(scenario.sweep.periods)]
+    if w.kind == "irregular" and w.tp > 0:
+        periods.append(("waves.tp", w.tp))
+    for key, period in periods:
+        omega = 2 * np.pi / period
+        if not lo <= omega <= hi:
+            raise ScenarioError(
+                f"{f}: {key} = {period:g} s ({omega:.4g} rad/s) is outside the hydrodynamic database's frequency range "
+                f"{lo:.4g}..{hi:.4g} rad/s (periods {2 * np.pi / hi:.4g}..{2 * np.pi / lo:.4g} s, {path}); choose a "
+                "period in that range or extend hydro.omega")

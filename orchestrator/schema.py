@@ -162,7 +162,7 @@ def _describe(tp: Any, f: dataclasses.Field | None) -> str:
     return name
 
 
-def document(cls: type, title: str, path: str = "", array: bool = False) -> list[str]:
+def document(cls: type, title: str, path: str = "", array: bool = False, defaults: Any = None) -> list[str]:
     """Markdown reference of ``cls``: one table per section, nested sections after."""
     hints = typing.get_type_hints(cls)
     header = f"[[{path}]]" if array else (f"[{path}]" if path else "top level")
@@ -177,23 +177,27 @@ def document(cls: type, title: str, path: str = "", array: bool = False) -> list
             typing.Union, types.UnionType) else [tp]
         base = inner[0]
         if dataclasses.is_dataclass(base):
-            nested.append((base, _join(path, f.name), False))
+            default = f.default_factory() if f.default_factory is not MISSING else None
+            nested.append((base, _join(path, f.name), False, default))
             continue
         if typing.get_origin(base) is list and dataclasses.is_dataclass(typing.get_args(base)[0]):
-            nested.append((typing.get_args(base)[0], _join(path, f.name), True))
+            nested.append((typing.get_args(base)[0], _join(path, f.name), True, None))
             continue
         if f.default is not MISSING:
             default = _toml_value(f.default)
         elif f.default_factory is not MISSING:
             default = _toml_value(f.default_factory())
+        elif defaults is not None:  # a section with a default value: its fields have one too
+            default = _toml_value(getattr(defaults, f.name)) + " (section default)"
         else:
             default = "**required**"
         doc = f.metadata.get("doc", "").replace("|", "\\|").replace("\n", " ")
         kind = _describe(tp, f).replace("|", "\\|")  # choices are listed with '|', a table separator
         lines.append(f"| `{f.name}` | {kind} | {f.metadata.get('unit', '') or ''} | {default} | {doc} |")
     lines.append("")
-    for sub, sub_path, is_array in nested:
-        lines += document(sub, (sub.__doc__ or sub.__name__).strip().split("\n")[0].rstrip("."), sub_path, is_array)
+    for sub, sub_path, is_array, sub_defaults in nested:
+        lines += document(sub, (sub.__doc__ or sub.__name__).strip().split("\n")[0].rstrip("."), sub_path, is_array,
+                          sub_defaults)
     return lines
 
 
@@ -205,7 +209,7 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, str):
         return f'`"{value}"`' if value else '`""`'
     if isinstance(value, float) and math.isinf(value):
-        return "`inf`"
+        return "`inf`" if value > 0 else "`-inf`"
     if isinstance(value, (list, tuple)):
         return "`[" + ", ".join(_toml_value(v).strip("`") for v in value) + "]`"
     return f"`{value}`"
