@@ -179,7 +179,7 @@ period = 4.8             # s: the paper's Figure 6
 heading_deg = 0.0
 
 [hydro]
-# Panels of 1.0 m (6.8 per wavelength at 3 rad/s): hull 1476 panels plus lids, solved on a twelfth of the scene
+# Panels of 1.0 m (6.8 per wavelength at 3 rad/s): hull 1320 panels plus lids, solved on a twelfth of the scene
 # (D6: the hub and the six rafts are unchanged by rotations of 60 deg and by the mirror y -> -y), 0.05-3.0 rad/s.
 omega = { start = 0.05, stop = 3.0, step = 0.05 }
 headings_deg = [0.0, 15.0, 30.0, 45.0, 60.0]
