@@ -1,4 +1,5 @@
-"""``wec-cosim plot``: PNG figures of a results file (time series) or of a RAO file (``wec-cosim rao``)."""
+"""``wec-cosim plot``: PNG figures of a results file (time series), a RAO or steady-state file, or a sweep file
+(matrices, drawn by :mod:`sweeps.plotting`)."""
 
 from __future__ import annotations
 
@@ -31,9 +32,13 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if f.attrs.get("format") == "wec-cosim sweep":
+                from sweeps.plotting import plot_sweep
+
+                return [plot_sweep(f, out / f"{path.stem}_matrix.png")]
             if "parameter" in f.attrs and "values" in f:
-                raise WecCosimError(f"plot: {path} is a sweep file (wec-cosim sweep); it has no figure yet: read "
-                                    "ptos/<name>/mean_power against values and periods with h5py")
+                raise WecCosimError(f"plot: {path} is a sweep file of an earlier version (values x periods); run "
+                                    "`wec-cosim sweep` again for a file with matrices that plot draws")
             if "omega" in f:
                 figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
                 if "heading_sweep" in f:

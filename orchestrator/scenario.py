@@ -13,6 +13,7 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from hydro_fmu.bem_symmetry import symmetry_error
 
@@ -85,6 +86,12 @@ class SimulationSection:
         doc="jacobi: set the motion at each communication point into the hydro FMU before reading its force; "
             "`false` reads every output right after the step, as generic FMI hosts do (fmpy's SSP simulator, "
             "libcosim fixedStep; first order, needs extrapolation = 0)")
+    interface: str = option(
+        "force", choices=("force", "linearised"),
+        doc="what the hydro FMU hands the multibody FMU: `force`, the force (held or extrapolated by the master); "
+            "`linearised`, the affine model F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v that the multibody FMU "
+            "integrates implicitly (second order and stable under any fixed-step host, the coupling `export-ssp` "
+            "writes; jacobi with extrapolation = 0 only: the model carries its own time rate)")
     added_mass: str = option(
         "mass_matrix", choices=ADDED_MASS,
         doc="`mass_matrix`: A_inf in the multibody mass matrix (stable, default); `explicit_force`: A_inf applied "
@@ -505,18 +512,30 @@ class ControlSection:
 
 @dataclass
 class SweepSection:
-    """Parameter sweep for `wec-cosim sweep`: mean PTO power over a grid of one key and wave periods."""
+    """Sweep for `wec-cosim sweep`: one full run per combination of the grid's values (see docs/sweeps.md)."""
 
-    parameter: str = option(
-        "", doc="key path of the swept value: `section.key` (e.g. `waves.height`) or `ptos.<name>.<key>` / "
-                "`bodies.<name>.<key>` (e.g. `ptos.pto.damping`); empty = only the wave periods")
-    values: list[float] = option(factory=list, doc="values of the swept key (its unit)")
-    periods: list[float] = option(factory=list, unit="s", check=positive,
-                                  doc="regular wave periods; default the scenario's `waves.period`")
+    grid: dict[str, Any] = option(
+        factory=dict,
+        doc="swept keys and their values: a table whose keys are key paths of this file and whose values are "
+            "arrays, e.g. `waves.hs = [1.0, 2.0]`, `waves.tp = [6.0, 8.0]`, `ptos.pto.damping = [1e5, 2e5]`, "
+            "`bodies.float.mass = [...]`, `waves.heading_deg = [...]`; one case per combination (the first key "
+            "varies slowest); `--grid KEY=V1,V2` on the command line adds or replaces a key")
+    seeds: int = option(
+        1, check=positive,
+        doc="time-domain runs in irregular seas: realisations per grid cell; the seed of each is derived from the "
+            "case's sea state, the seed index and `waves.seed` (never from the order of execution)")
     method: str = option("frequency_domain", choices=("frequency_domain", "time_domain"),
-                         doc="exact linear frequency-domain solution, or a time-domain co-simulation per point "
-                             "(steady state over `simulation.steady_periods`)")
-    workers: int = option(1, check=positive, doc="processes running time-domain points in parallel")
+                         doc="exact linear frequency-domain solution (regular or irregular seas), or one "
+                             "time-domain co-simulation per case")
+    transient: float | None = option(
+        None, unit="s", check=non_negative,
+        doc="time domain: start-up discarded before the statistics; default: regular waves the last "
+            "`simulation.steady_periods` periods are analysed (the duration is extended to the ramp, 15 "
+            "periods of settling and that window), other seas the ramp time plus `hydro.irf_duration`")
+    time_series: bool = option(False, doc="also store each case's time series in the sweep file")
+    workers: int = option(0, check=non_negative,
+                          doc="worker processes of the local Dask cluster; 0 = one per core (`--workers`; "
+                              "`--scheduler ADDRESS` uses a running cluster instead)")
 
 
 @dataclass
@@ -538,7 +557,7 @@ class Scenario:
     rao: RaoSection = field(default_factory=RaoSection)
     steady: SteadySection = field(default_factory=SteadySection, metadata={"doc": "pseudo-spectral steady state"})
     control: ControlSection = field(default_factory=ControlSection)
-    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
+    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "sweeps and power matrices"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
 
@@ -603,6 +622,7 @@ def parse_scenario(text: str, path: Path) -> Scenario:
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
     except RecursionError:
         raise ScenarioError(f"{path}: arrays or tables nested too deeply") from None
+    _refuse_old_sweep_keys(data, path)
     scenario = schema.load(Scenario, data, str(path))
     scenario._file = path
     scenario._text = text
@@ -610,6 +630,25 @@ def parse_scenario(text: str, path: Path) -> Scenario:
         scenario.name = re.sub(r"[^A-Za-z0-9_.+-]", "_", path.stem).lstrip(".-")[:100] or "scenario"
     _check(scenario)
     return scenario
+
+
+def _refuse_old_sweep_keys(data: dict, path: Path) -> None:
+    """The one-key sweep table of earlier versions (parameter, values, periods) with its replacement."""
+    sw = data.get("sweep")
+    if not isinstance(sw, dict) or not {"parameter", "values", "periods"} & set(sw):
+        return
+    def array(values: object) -> str:
+        text = str(values)
+        return text if len(text) <= 80 else text[:60] + " ...]"
+
+    lines = []
+    if sw.get("parameter"):
+        lines.append(f"{sw['parameter']} = {array(sw.get('values', []))}")
+    if sw.get("periods"):
+        lines.append(f"waves.period = {array(sw['periods'])}")
+    raise ScenarioError(
+        f"{path}: [sweep] keys parameter, values and periods were replaced by the [sweep.grid] table of key paths "
+        "and values; write instead: [sweep.grid] " + "; ".join(lines) + " (see docs/sweeps.md)")
 
 
 def _check(s: Scenario) -> None:
@@ -698,6 +737,13 @@ def _check_simulation(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "
             f"it needs master = 'jacobi' and extrapolation = 0 (got {sim.master!r}, {sim.extrapolation})")
+    if sim.interface == "linearised" and (sim.master != "jacobi" or sim.extrapolation != 0
+                                          or sim.added_mass != "mass_matrix" or sim.adaptive.enabled):
+        raise ScenarioError(
+            f"{f}: simulation.interface = 'linearised' hands the multibody FMU an affine force model with its own "
+            f"time rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass "
+            f"and a fixed step (no [simulation.adaptive]) (got {sim.master!r}, {sim.extrapolation}, "
+            f"{sim.added_mass!r})")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "

@@ -18,6 +18,7 @@ from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_
 from hydro_fmu.bemio import read_bemio
 from hydro_fmu.drag import ViscousCoefficients
 from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
+from hydro_fmu.linearisation import CouplingPattern, coupling_pattern
 from hydro_fmu.meshes import SurfaceMesh, write_meshes
 from hydro_fmu.model import ForceSwitches, HydroOptions
 from hydro_fmu.sea import Sea, SeaSpec, build_sea
@@ -287,6 +288,23 @@ class Scene:
         return system
 
     # ------------------------------------------------------------------ FMU specifications
+    def coupling_pattern(self) -> CouplingPattern:
+        """Entries of the linearised force interface's dF_dx and dF_dv (hydro_fmu.linearisation)."""
+        h = self.scenario.hydro
+        idx = self.hydro_index()
+        viscous = self.viscous() if h.viscous else None
+        mask = None if viscous is None else (viscous.linear != 0) | (viscous.quadratic != 0)
+        return coupling_pattern(
+            self.hdb, idx, idx // 6, hydrostatics=h.hydrostatics and not h.nonlinear_hydrostatics,
+            nonlinear_position=(h.nonlinear_hydrostatics and h.hydrostatics) or (h.nonlinear_froude_krylov
+                                                                                 and h.excitation),
+            radiation=h.radiation, viscous=mask)
+
+    def experiment(self) -> dict:
+        """The FMUs' DefaultExperiment: the scenario's duration and macro step."""
+        sim = self.scenario.simulation
+        return {"start": 0.0, "stop": sim.duration, "step": sim.step}
+
     def hydro_data_files(self, folder: Path) -> dict[str, Path]:
         """Data files the hydro FMU needs besides its database, written to or found from ``folder``:
         resource name -> file (imported wave data, hull meshes for the nonlinear options)."""
@@ -328,6 +346,8 @@ class Scene:
                                                      "quadratic": viscous.quadratic.tolist()},
             "switches": {"excitation": h.excitation, "radiation": h.radiation, "hydrostatics": h.hydrostatics,
                          "viscous": h.viscous},
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def static_load(self, b: BodySection) -> list[float]:
@@ -456,6 +476,9 @@ class Scene:
                       "velocity_scale": p.velocity_scale} for p in s.ptos],
             "hydro_bodies": self.hydro_bodies,
             "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
+            "added_mass_inf": self.hdb.added_mass_inf[np.ix_(self.hydro_index(), self.hydro_index())].ravel().tolist(),
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def connections(self) -> list[Connection]:
@@ -466,6 +489,22 @@ class Scene:
             links.append(Connection(MBD, f"{b}.x[{i}]", HYDRO, f"{b}.x[{i}]"))
             links.append(Connection(MBD, f"{b}.v[{i}]", HYDRO, f"{b}.v[{i}]"))
             links.append(Connection(HYDRO, f"{b}.F[{i}]", MBD, f"{b}.F[{i}]"))
+        return links
+
+    def linearised_connections(self) -> list[Connection]:
+        """The linearised force interface: MBD displacement and velocity -> hydro; hydro F0, F0_rate, dF_dx,
+        dF_dv -> the MBD inputs of the same names (what plain fixed-step hosts need, see docs/masters.md)."""
+        links = [link for link in self.connections() if link.source == MBD]
+        for b, d in self.hydro_coordinates:
+            for var in ("F0", "F0_rate"):
+                name = f"{b}.{var}[{d + 1}]"
+                links.append(Connection(HYDRO, name, MBD, name))
+        labels = [k + 1 for k in self.hydro_index()]
+        pattern = self.coupling_pattern()
+        for var, pairs in (("dF_dx", pattern.stiffness), ("dF_dv", pattern.damping)):
+            for i, j in pairs:
+                name = f"{var}[{labels[i]},{labels[j]}]"
+                links.append(Connection(HYDRO, name, MBD, name))
         return links
 
     def parameter_links(self) -> list[Connection]:
@@ -486,15 +525,14 @@ def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress
 
 
 def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
-    """Regular wave periods (waves, steady, sweep) and an irregular sea's peak inside the database's
-    frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    """Regular wave periods (waves, steady; each case of a sweep has its own) and an irregular sea's peak
+    inside the database's frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
     w, f = scenario.waves, scenario.file
     lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
     periods = []
     if w.kind == "regular":
         periods.append(("waves.period", w.period))
     periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
-    periods += [(f"sweep.periods[{i}]", p) for i, p in enumerate(scenario.sweep.periods)]
     if w.kind == "irregular" and w.tp > 0:
         periods.append(("waves.tp", w.tp))
     for key, period in periods:

@@ -217,18 +217,22 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
                 "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
     else:
-        coupling = scene_coupling(scene, sim.added_mass)
+        coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
+        if not sim.resolve_feedthrough and sim.interface == "force" and log is not None:
+            log("warning: resolve_feedthrough = false with the force interface is what a plain FMI host does with "
+                "the force connected: first order, and unstable for light bodies (docs/hosts/README.md); "
+                "simulation.interface = 'linearised' is second order under the same host")
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario, scene),
-                             observe, coupling.added_mass)
+                             observe, coupling.added_mass, coupling.parameters)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
     if sim.adaptive.enabled:
@@ -257,13 +261,17 @@ def run_scenario(
     in_process: bool = False,
     log=print,
     progress: bool = True,
+    scene: Scene | None = None,
 ) -> RunResult:
-    """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
+    """Run the scenario's co-simulation, write the results file, compare with the exact answer.
+
+    ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
+    """
     sim = scenario.simulation
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress)
+    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     try:
         writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
     except BaseException:

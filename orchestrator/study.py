@@ -31,12 +31,16 @@ class Series:
 
 
 def variant(scenario: Scenario, master: str, step: float, extrapolation: int = 2,
-            added_mass: str = "mass_matrix") -> Scenario:
+            added_mass: str = "mass_matrix", *, interface: str = "force", plain_host: bool = False) -> Scenario:
+    """The scenario with another master and step; ``interface`` (``force``, ``linearised``) and ``plain_host``
+    (outputs read right after each step, as generic FMI hosts do: ``resolve_feedthrough = false``)."""
     s = copy.deepcopy(scenario)
     s.simulation.master = master
     s.simulation.step = step
     s.simulation.extrapolation = extrapolation
     s.simulation.added_mass = added_mass
+    s.simulation.interface = interface
+    s.simulation.resolve_feedthrough = not plain_host
     return s
 
 
