@@ -31,11 +31,11 @@ from common import write_report
 from mbd_fmu.moorings import catenary_tensions
 from mbd_fmu.spec import build_simulator
 from orchestrator.frequency_domain import linear_model
+from orchestrator.overrides import apply_overrides
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 from orchestrator.simulation import run_scenario
-from orchestrator.overrides import apply_overrides
 
 ROOT = Path(__file__).resolve().parent.parent
 DECAY = ROOT / "scenarios" / "rm3_surge_decay.toml"

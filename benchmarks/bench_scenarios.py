@@ -25,9 +25,9 @@ from pathlib import Path
 
 from common import write_report
 
+from orchestrator.overrides import apply_overrides
 from orchestrator.scenario import load_scenario
 from orchestrator.simulation import run_scenario
-from orchestrator.overrides import apply_overrides
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -39,6 +39,8 @@ SCENARIOS: list[tuple] = [
     ("rm3_regular.toml", "RM3 two bodies, MoorDyn lines, regular waves"),
     ("rm3_irregular.toml", "RM3, MoorDyn lines, Pierson-Moskowitz sea"),
     ("rm3_irregular.toml", "RM3, quasi-static catenary lines, same sea", ("mooring_lines.model=quasi_static",)),
+    ("nenuphar.toml", "seed 001 Nenuphar: 7 bodies, 6 hinges, tether, 6 catenaries"),
+    ("mathai_assembly.toml", "seed 001 Mathai's three hinged rafts, finite depth"),
 ]
 
 

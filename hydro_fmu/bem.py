@@ -25,13 +25,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .bem_symmetry import MIRROR_XOZ, check_invariant, rotation_symmetric_system, symmetry_group
 from .bemio import read_bemio, write_bemio
 from .hdb import HydroDatabase, HydroDatabaseError
 from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mesh, to_capytaine
+from .prism_mesh import regular_prism_mesh
 
 # Bump when the way a database is computed changes: invalidates every cached file.
 BEM_CACHE_VERSION = 1
-SHAPES = ("vertical_cylinder", "sphere", "box", "axisymmetric", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "regular_prism", "axisymmetric", "mesh")
 
 _logger = logging.getLogger(__name__)
 
@@ -46,9 +48,11 @@ class BodyGeometry:
     Attributes:
         shape: ``vertical_cylinder`` (``radius``, ``draft``; local origin on the axis at the
             waterline), ``sphere`` (``radius``; origin at the centre), ``box`` (``size`` =
-            length, width, height; origin at the centre), ``axisymmetric`` (``profile``: the
-            generating curve revolved about the local z axis, see :func:`mesh_of_revolution`) or
-            ``mesh`` (``mesh_file``; the file's own coordinates).
+            length, width, height; origin at the centre), ``regular_prism`` (``sides``, ``radius``
+            from the axis to a corner, ``draft``, freeboard equal to the draft; origin on the axis at
+            the waterline, a flat side facing +x; :mod:`hydro_fmu.prism_mesh`), ``axisymmetric``
+            (``profile``: the generating curve revolved about the local z axis, see
+            :func:`mesh_of_revolution`) or ``mesh`` (``mesh_file``; the file's own coordinates).
         position: world coordinates (m) of the local origin.
         rotation_deg: rotation about the local origin, about the fixed x, then y, then z axis (deg).
         profile: ``axisymmetric``: ``(r, z)`` points (m) of the hull's cross-section in a meridian
@@ -74,6 +78,7 @@ class BodyGeometry:
     rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
     profile: tuple[tuple[float, float], ...] = ()
     dry_segments: tuple[int, ...] = ()
+    sides: int = 0
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
@@ -102,7 +107,9 @@ class BemSettings:
             Capytaine solves on half meshes (:func:`reflection_symmetric`). Same discretisation
             except that panels crossing y = 0 are split in two and the lid is generated from the
             half waterline; 2.3 times faster per frequency at 5400 panels
-            (``benchmarks/bench_bem_symmetry.py``).
+            (``benchmarks/bench_bem_symmetry.py``). ``C<n>``, ``D<n>``: the set of bodies is
+            unchanged by a rotation of 360/n deg about z (and, for ``D<n>``, by the mirror about
+            y = 0); one solve on a wedge (:mod:`hydro_fmu.bem_symmetry`).
     """
 
     omega: tuple[float, ...]
@@ -144,11 +151,15 @@ def cache_key(bodies: list[BemBody], settings: BemSettings) -> str:
             item["geometry"].pop("profile")
         if not body.geometry.dry_segments:
             item["geometry"].pop("dry_segments")
+        if not body.geometry.sides:  # nor those made before regular prisms existed
+            item["geometry"].pop("sides")
         if body.geometry.shape == "mesh":
             item["geometry"]["mesh_file"] = _file_digest(Path(body.geometry.mesh_file))
         items.append(item)
     settings_dict = asdict(settings)
     settings_dict.pop("extra")
+    if not math.isinf(settings.water_depth):  # the Green function's finite-depth decomposition (_green_function)
+        settings_dict["finite_depth_prony"] = "fortran"
     if settings.symmetry == "none":  # keys of databases made before the option existed stay valid
         settings_dict.pop("symmetry")
     payload = {
@@ -206,12 +217,15 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
             report.raise_errors()
             for message in report.warnings:
                 (log or log_warning)(f"body {body.name!r} (mesh {body.geometry.mesh_file}): {message}")
-    if settings.symmetry not in ("none", "xOz"):
-        raise HydroDatabaseError(f"unknown BEM symmetry {settings.symmetry!r}; expected 'none' or 'xOz'")
-    cpt_bodies = [_floating_body(b, settings.symmetry) for b in bodies]
-    system = cpt_bodies[0] if len(cpt_bodies) == 1 else cpt.Multibody(cpt_bodies)
+    order, _ = symmetry_group(settings.symmetry)
+    if order > 1:
+        system, panels, cpt_bodies = _rotation_symmetric(bodies, settings.symmetry)
+    else:
+        cpt_bodies = [_floating_body(b, settings.symmetry) for b in bodies]
+        system = cpt_bodies[0] if len(cpt_bodies) == 1 else cpt.Multibody(cpt_bodies)
+        panels = [cb.mesh.nb_faces for cb in cpt_bodies]
     dofs = list(system.dofs)
-    solver = cpt.BEMSolver(method=settings.method) if settings.method != "indirect" else cpt.BEMSolver()
+    solver = cpt.BEMSolver(green_function=_green_function(settings.water_depth), method=settings.method)
     common = {
         "water_depth": [settings.water_depth],
         "rho": [settings.rho],
@@ -227,7 +241,10 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
     report(0, total, float(omega[0]) if len(omega) else math.inf)
     try:
         ds = _solve_by_frequency(solver, test, system, lambda k, w: report(k, total, w))
-        ds_inf = _solve_by_frequency(solver, xr.Dataset(coords={"omega": [np.inf], **common}), system,
+        # Infinite frequency with Capytaine's default Green function: Nemoh's Fortran decomposition returns NaN
+        # there (the bottom is still taken into account by the default one in finite depth).
+        solver_inf = cpt.BEMSolver(method=settings.method)
+        ds_inf = _solve_by_frequency(solver_inf, xr.Dataset(coords={"omega": [np.inf], **common}), system,
                                      lambda k, w: report(total, total, w))
     except Exception as exc:  # Capytaine raises its own types (e.g. GreenFunctionEvaluationError on NaN)
         names = ", ".join(repr(b.name) for b in bodies)
@@ -261,10 +278,23 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
         g=settings.g,
         water_depth=settings.water_depth,
         source=f"Capytaine {cpt.__version__} ({settings.method}, "
-        + ", ".join(f"{b.name}: {cb.mesh.nb_faces} panels" for b, cb in zip(bodies, cpt_bodies, strict=True))
-        + ")",
+        + ", ".join(f"{b.name}: {n} panels" for b, n in zip(bodies, panels, strict=True))
+        + (f"; symmetry {settings.symmetry}" if settings.symmetry != "none" else "") + ")",
     )
     return hdb
+
+
+def _green_function(water_depth: float):
+    """Capytaine's Delhommeau Green function at finite frequencies; in finite depth with Nemoh's Fortran Prony
+    decomposition of the wave term. Capytaine 3.0's default Python decomposition fails below kh of about 0.15
+    (every coefficient NaN; e.g. below 0.15 rad/s in 15 m of water, or 0.2 rad/s in the 1.5 m of seed 003's
+    tank); the Fortran one converges there and agrees with it to 1e-4 from 0.5 rad/s up in 15 m
+    (``docs/mathai_assembly.md``). It returns NaN at infinite frequency, which is solved with the default."""
+    import capytaine as cpt
+
+    if math.isinf(water_depth):
+        return cpt.Delhommeau()
+    return cpt.Delhommeau(finite_depth_prony_decomposition_method="fortran")
 
 
 def _solve_by_frequency(solver, dataset, system, done) -> object:  # noqa: ANN001 - Capytaine and xarray objects
@@ -356,11 +386,30 @@ def _axisymmetric_lid(g: BodyGeometry):
 
 def _placed(mesh, g: BodyGeometry):
     """A primitive's Capytaine mesh rotated about its origin and moved to its world position."""
-    from .meshes import euler_xyz
-
     if any(g.rotation_deg):
         mesh = mesh.rotated_with_matrix(euler_xyz(g.rotation_deg))
     return mesh.translated(tuple(g.position))
+
+
+def _rotation_symmetric(bodies: list[BemBody], symmetry: str):
+    """The whole scene as one Capytaine body on a rotation-symmetric mesh (``C<n>``, ``D<n>``), the hull panels
+    of each body in it, and plain per-body ``FloatingBody`` objects for the hydrostatics."""
+    import capytaine as cpt
+
+    order, mirror = symmetry_group(symmetry)
+    hulls, lids, plain = [], [], []
+    for b in bodies:
+        immersed = _mesh(b.geometry).immersed_part()
+        if immersed.nb_faces == 0:
+            raise HydroDatabaseError(f"body {b.name!r}: the mesh has no panel below the waterline z = 0")
+        surface_piercing = b.geometry.lid and np.max(immersed.vertices[:, 2]) > -1e-6
+        hulls.append(immersed)
+        lids.append(immersed.generate_lid(z=0.0, faces_max_radius=_lid_panel(b.geometry)) if surface_piercing else None)
+        plain.append(cpt.FloatingBody(mesh=immersed, dofs=cpt.rigid_body_dofs(rotation_center=b.cg),
+                                      center_of_mass=b.cg, name=b.name))
+    system, panels = rotation_symmetric_system([b.name for b in bodies], np.array([b.cg for b in bodies], float),
+                                               hulls, lids, order, mirror)
+    return system, panels, plain
 
 
 def reflection_symmetric(mesh, name: str, tolerance: float = 1e-6):
@@ -371,18 +420,11 @@ def reflection_symmetric(mesh, name: str, tolerance: float = 1e-6):
     ``tolerance`` times the mesh's size.
     """
     import capytaine as cpt
-    from scipy.spatial import cKDTree
 
     centres = np.asarray(mesh.faces_centers)
-    mirrored = centres * np.array([1.0, -1.0, 1.0])
-    size = float(np.ptp(np.asarray(mesh.vertices), axis=0).max())
-    gap, _ = cKDTree(centres).query(mirrored)
-    if gap.max() > tolerance * size:
-        worst = mirrored[int(np.argmax(gap))] * np.array([1.0, -1.0, 1.0])
-        raise HydroDatabaseError(
-            f"body {name!r} is not mirror-symmetric about the plane y = 0 (hydro.bem_symmetry = 'xOz'): the panel "
-            f"at {np.round(worst, 4).tolist()} m has no mirror image (nearest {gap.max():.3g} m away); "
-            "set hydro.bem_symmetry = 'none'")
+    check_invariant(centres, MIRROR_XOZ, [name] * len(centres),
+                    "mirror-symmetric about the plane y = 0 (hydro.bem_symmetry = 'xOz'; else set it to 'none')",
+                    tolerance)
     half = mesh.clipped(origin=(0.0, 0.0, 0.0), normal=(0.0, -1.0, 0.0))
     return cpt.ReflectionSymmetricMesh(half=half, plane="xOz", name=mesh.name)
 
@@ -392,12 +434,14 @@ def _lid_panel(geometry: BodyGeometry) -> float:
 
 
 def _mesh(geometry: BodyGeometry):
-    """Capytaine mesh of a body in world coordinates (primitives keep Capytaine's quadrilaterals)."""
+    """Capytaine mesh of a body in world coordinates (primitives keep Capytaine's quadrilaterals, also when
+    rotated: a rotated copy of a primitive has the rotated panels of the original, which ``hydro.bem_symmetry``
+    needs)."""
     if geometry.shape == "axisymmetric":  # wetted part only (dry segments left out)
         return _placed(mesh_of_revolution(geometry.profile, geometry.panel_size, skip=geometry.dry_segments), geometry)
-    if geometry.shape == "mesh" or any(geometry.rotation_deg):
+    if geometry.shape == "mesh":
         return to_capytaine(body_mesh(geometry))
-    return _primitive_mesh(geometry).translated(tuple(geometry.position))
+    return _placed(_primitive_mesh(geometry), geometry)
 
 
 def _primitive_mesh(geometry: BodyGeometry):
@@ -421,6 +465,10 @@ def _primitive_mesh(geometry: BodyGeometry):
         mesh = cpt.mesh_sphere(radius=g.radius, center=(0.0, 0.0, 0.0), resolution=(n, 2 * n))
     elif g.shape == "axisymmetric":
         mesh = mesh_of_revolution(g.profile, ps)
+    elif g.shape == "regular_prism":
+        if g.sides < 3 or g.radius <= 0 or g.draft <= 0:
+            raise HydroDatabaseError("regular_prism needs at least 3 sides and a positive radius and draft")
+        mesh = regular_prism_mesh(g.sides, g.radius, g.draft, ps)
     elif g.shape == "box":
         if min(g.size) <= 0:
             raise HydroDatabaseError("box needs three positive sizes (length, width, height)")

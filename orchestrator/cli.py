@@ -57,8 +57,8 @@ def _out(value: str, kind: str = "hdf5") -> Path:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from .simulation import format_summary, run_scenario
     from .overrides import apply_overrides
+    from .simulation import format_summary, run_scenario
 
     scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.duration is not None:

@@ -175,12 +175,13 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
 
     sim = scene.multibody_simulator(added_mass=False)
     model = sim.model
-    lin = linearize(model)
+    pose = scene.linearisation_pose(model)
+    lin = linearize(model, pose)
     rows = [model.slot_of(b, d) for b, d in scene.hydro_coordinates]
     z, f, stiffness = _impedance(scene, omega, lin.mass, lin.damping, lin.stiffness, rows,
                                  radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     p = lin.null_space
-    kin = model.kin(model.reference, np.zeros(model.n))
+    kin = model.kin(pose, np.zeros(model.n))
     pto_rows = {pto.name: (_coordinate_row(model, pto.coordinate, kin), pto.damping, pto) for pto in sim.ptos}
     return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows,
                        full_impedance=z, full_excitation=f, constraint=lin.constraint_jacobian,

@@ -40,7 +40,10 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
                 raise WecCosimError(f"plot: {path} is a sweep file of an earlier version (values x periods); run "
                                     "`wec-cosim sweep` again for a file with matrices that plot draws")
             if "omega" in f:
-                return [plot_rao(f, out / f"{path.stem}_rao.png")]
+                figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
+                if "heading_sweep" in f:
+                    figures.append(plot_heading_sweep(f, out / f"{path.stem}_headings.png"))
+                return figures
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
@@ -134,6 +137,44 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
         axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
     return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
                  "wave frequency (rad/s)", target)
+
+
+def plot_heading_sweep(f: h5py.File, target: Path) -> Path:
+    """One column per heading of a RAO file's heading sweep: joint coordinate RAOs (deg or m per m of wave
+    amplitude), every body's heave RAO, and the mean PTO power per m^2 of wave amplitude."""
+    plt = _pyplot()
+    omega = f["omega"][()]
+    g = f["heading_sweep"]
+    headings = g["headings_deg"][()]
+    panels = [p for p in ("joints", "bodies", "ptos") if p in g]
+    fig, axes = plt.subplots(len(panels), len(headings), figsize=(4.2 * len(headings), 3.3 * len(panels) + 0.5),
+                             sharex=True, sharey="row", squeeze=False)
+    for k, heading in enumerate(headings):
+        for row, panel in enumerate(panels):
+            ax = axes[row, k]
+            for name in g[panel]:
+                if panel == "joints":
+                    ds = g[f"joints/{name}/rao"]
+                    for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
+                        values = np.abs(ds[k, :, i])
+                        rotation = "angle" in coordinate or "rotation" in coordinate
+                        ax.plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
+                elif panel == "bodies":
+                    ax.plot(omega, np.abs(g[f"bodies/{name}/rao"][k, :, 2]), label=f"{name} heave")
+                else:
+                    ax.plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+            ax.grid(True, alpha=0.3)
+        axes[0, k].set_title(f"heading {heading:g} deg")
+        axes[-1, k].set_xlabel("wave frequency (rad/s)")
+    labels = {"joints": "|joint RAO| (deg/m, m/m)", "bodies": "|heave RAO| (m/m)", "ptos": "mean power (kW per m^2)"}
+    for row, panel in enumerate(panels):
+        axes[row, 0].set_ylabel(labels[panel])
+        if axes[row, -1].get_legend_handles_labels()[0]:
+            axes[row, -1].legend(loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target
 
 
 def plot_steady(f: h5py.File, target: Path) -> Path:

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from hydro_fmu.bem_symmetry import symmetry_error
 from mbd_fmu.moordyn_lines import SCHEMES as MOORDYN_SCHEMES
 
 from . import input_checks, schema
@@ -22,7 +23,7 @@ from .errors import ScenarioError
 from .schema import identifier, non_negative, option, positive
 
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-SHAPES = ("vertical_cylinder", "sphere", "box", "axisymmetric", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "regular_prism", "axisymmetric", "mesh")
 FORMULATIONS = ("auto", "linear", "index3", "index1", "nullspace")
 INTEGRATORS = ("", "generalized_alpha", "rk4", "heun", "euler")
 JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
@@ -212,10 +213,13 @@ class HydroSection:
     headings_deg: list[float] = option(factory=lambda: [0.0], unit="deg", doc="BEM wave headings")
     bem_method: str = option("indirect", choices=("indirect", "direct"), doc="Capytaine formulation")
     bem_symmetry: str = option(
-        "none", choices=("none", "xOz"),
-        doc="`xOz`: every hydrodynamic body is mirror-symmetric about y = 0 and Capytaine solves on half meshes "
-            "(panels crossing y = 0 are split; checked, an asymmetric body is an error); 2.3 times faster per "
-            "frequency at 5400 panels")
+        "none", check=symmetry_error,
+        doc="`none`, `xOz`, `C<n>` or `D<n>`. `xOz`: every hydrodynamic body is mirror-symmetric about y = 0 and "
+            "Capytaine solves on half meshes (panels crossing y = 0 are split; checked, an asymmetric body is an "
+            "error); 2.3 times faster per frequency at 5400 panels. `C<n>`: the set of bodies is unchanged by a "
+            "rotation of 360/n deg about the z axis (the bodies themselves need not be), `D<n>`: and by the mirror "
+            "about y = 0; one solve on a wedge (half-wedge) of the scene, the results symmetric to round-off "
+            "(docs/nenuphar.md)")
     irf_duration: float = option(60.0, unit="s", check=positive, doc="length of the radiation impulse response")
     irf_d_omega: float = option(
         0.0, unit="rad/s", check=non_negative,
@@ -263,8 +267,11 @@ class GeometrySection:
     """Wetted shape of a body for the BEM solver."""
 
     shape: str = option(choices=SHAPES, doc="primitive or mesh file")
-    radius: float = option(0.0, unit="m", check=non_negative, doc="cylinder or sphere radius")
-    draft: float = option(0.0, unit="m", check=non_negative, doc="cylinder draft (immersed length)")
+    radius: float = option(0.0, unit="m", check=non_negative,
+                           doc="cylinder or sphere radius; regular_prism: axis to corner")
+    draft: float = option(0.0, unit="m", check=non_negative,
+                          doc="cylinder or regular_prism draft (immersed length; the freeboard is the same)")
+    sides: int = option(0, check=non_negative, doc="regular_prism: number of sides (a flat side faces +x)")
     size: tuple[float, float, float] = option((0.0, 0.0, 0.0), unit="m", check=non_negative,
                                               doc="box length, width, height")
     mesh_file: str = option("", doc="mesh file (.obj, .stl, .gdf, ...), relative to the scenario file")
@@ -280,8 +287,8 @@ class GeometrySection:
             "the BEM mesh); give the neighbour's hull there as dry too (no water gap)")
     position: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="m",
-        doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
-            "axisymmetric: the profile's r = 0, z = 0; mesh: the file's origin)")
+        doc="world position of the shape's origin (cylinder, regular_prism: axis at the waterline; sphere, box: "
+            "centre; axisymmetric: the profile's r = 0, z = 0; mesh: the file's origin)")
     rotation_deg: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="deg",
         doc="rotation of the shape about its origin: about the fixed x, then y, then z axis")
@@ -377,6 +384,10 @@ class MultibodySection:
                                                                  "max(1 m, largest cg coordinate))")
     gravity: bool = option(True, doc="apply gravity at the centres of gravity and the bodies' buoyancy "
                                      "(nonlinear formulations)")
+    static_equilibrium: bool = option(
+        False, doc="find the static equilibrium (gravity, buoyancy, hydrostatic stiffness, moorings, tethers, "
+                   "springs) before the run, report it, start the run from it (initial displacements are added) "
+                   "and linearise the frequency domain about it (nonlinear formulations; docs/nenuphar.md)")
 
 
 @dataclass
@@ -963,6 +974,9 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
             vec(where, "point2", p.point2)
         elif p.body2:
             vec(where, "position", p.position)
+    if s.formulation == "linear" and s.multibody.static_equilibrium:
+        raise ScenarioError(f"{f}: multibody.static_equilibrium needs a nonlinear formulation (index3, index1 or "
+                            "nullspace); the linear model assumes the reference pose is the equilibrium")
     if s.formulation == "linear" and (s.joints or s.forces or s.drivers or any(b.point_mass for b in s.bodies)
                                       or any(p.joint or p.body2 or p.point for p in s.ptos)):
         raise ScenarioError(f"{f}: multibody.formulation = 'linear' supports bodies on selected DOFs with PTOs to the "
@@ -1003,7 +1017,8 @@ def _check_mooring_lines(s: Scenario, f: str) -> None:
 
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
     g = b.geometry
-    needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",)}.get(g.shape, ())
+    needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",),
+             "regular_prism": ("radius", "draft")}.get(g.shape, ())
     for key in needs:
         if getattr(g, key) <= 0:
             raise ScenarioError(f"{where}: geometry shape {g.shape!r} needs a positive {key}")
@@ -1013,6 +1028,8 @@ def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
     if any(not 0 <= i < len(g.profile) - 1 for i in g.dry_segments):
         raise ScenarioError(f"{where}: geometry dry_segments {g.dry_segments} must be indices of profile segments "
                             f"(0 to {len(g.profile) - 2})")
+    if g.shape == "regular_prism" and g.sides < 3:
+        raise ScenarioError(f"{where}: geometry shape 'regular_prism' needs sides >= 3")
     if g.shape == "box" and min(g.size) <= 0:
         raise ScenarioError(f"{where}: geometry shape 'box' needs size = [length, width, height], all positive")
     if g.shape == "mesh":

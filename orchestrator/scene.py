@@ -58,7 +58,7 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
                                 lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)),
-                                dry_segments=tuple(g.dry_segments))
+                                dry_segments=tuple(g.dry_segments), sides=g.sides)
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -363,7 +363,31 @@ class Scene:
 
     def mbd_spec(self, *, dynamic_lines: bool = True) -> dict:
         """The multibody FMU's specification; ``dynamic_lines=False`` gives MoorDyn lines as quasi-static
-        catenaries (the frequency-domain solvers' model)."""
+        catenaries (the frequency-domain solvers' model). With ``multibody.static_equilibrium`` the bodies start
+        from the static equilibrium (their initial displacements added to it)."""
+        spec = self._mbd_spec_at_reference(dynamic_lines)
+        if self.scenario.multibody.static_equilibrium:
+            offsets = self.equilibrium().displacement
+            for b, offset in zip(spec["bodies"], offsets, strict=True):
+                b["x0"] = (np.asarray(b["x0"], float) + offset).tolist()
+        return spec
+
+    def equilibrium(self):
+        """The static equilibrium of the scene (:func:`orchestrator.equilibrium.scene_equilibrium`), computed once."""
+        if not hasattr(self, "_equilibrium"):
+            from .equilibrium import scene_equilibrium
+
+            self._equilibrium = scene_equilibrium(self)
+        return self._equilibrium
+
+    def linearisation_pose(self, model):
+        """Pose the frequency domain linearises about: the static equilibrium if the scene asks for it, else the
+        reference pose."""
+        return self.equilibrium().pose if self.scenario.multibody.static_equilibrium else model.reference
+
+    def _mbd_spec_at_reference(self, dynamic_lines: bool = False) -> dict:
+        """The specification at the reference pose (MoorDyn lines as quasi-static catenaries unless
+        ``dynamic_lines``)."""
         spec = self._linear_mbd_spec()
         s = self.scenario
         if s.formulation == "linear":

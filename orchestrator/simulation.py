@@ -184,6 +184,8 @@ class RunPlan:
                "versions": versions(), "settings": self.settings, "hydro_database": str(self.scene.hdb_file)}
         if self.control:
             out["control_manifest"] = self.control.manifest.to_json()
+        if scenario.multibody.static_equilibrium:
+            out["static_equilibrium"] = self.scene.equilibrium().as_dict()
         return out
 
 
@@ -211,6 +213,10 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     # A scene given is reused for its database only (the scenario may be a variant of its own).
     scene = (Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None
              else load_scene(scenario, log=log, progress=progress))
+    if scenario.multibody.static_equilibrium and log is not None:
+        from .equilibrium import equilibrium_report
+
+        log(equilibrium_report(scene.equilibrium()))
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
@@ -527,6 +533,17 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
             y = data[f"bodies/{b.name}/displacement"][:, j]
             measured, _ = harmonic_fit(t[mask], y[mask], omega)
             out.append(Comparison(f"{b.name} {d}", "m" if j < 3 else "rad", measured, complex(rao[j])))
+    from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+    for j in s.joints:
+        if f"joints/{j.name}/coordinate" not in data:
+            continue
+        series = np.asarray(data[f"joints/{j.name}/coordinate"]).reshape(len(t), -1)
+        for i, (name, (unit, _)) in enumerate(zip(fd.joint_coordinates[j.name], JOINT_COORDINATE_UNITS[j.kind],
+                                                  strict=True)):
+            measured, _ = harmonic_fit(t[mask], series[mask, i], omega)
+            exact = complex(fd.joint_rao[j.name][0, i] * amplitude * wave_phase)
+            out.append(Comparison(f"{j.name} {name}", unit, measured, exact))
     for p in s.ptos:
         measured = window_mean(t, data[f"ptos/{p.name}/power"], mask)
         out.append(Comparison(f"{p.name} mean power", "W", measured, float(fd.pto_power[p.name][0] * amplitude**2)))

@@ -44,6 +44,20 @@ def variant(scenario: Scenario, master: str, step: float, extrapolation: int = 2
     return s
 
 
+def regular_wave(scenario: Scenario, period: float, amplitude: float, heading_deg: float | None = None,
+                 periods: float = 15.0, steps_per_period: int = 100) -> Scenario:
+    """A copy of ``scenario`` in a regular wave of ``period`` (s) and ``amplitude`` (m): macro step
+    ``period / steps_per_period``, ``periods`` wave periods simulated, the default ramp (3 periods)."""
+    s = copy.deepcopy(scenario)
+    s.waves.kind = "regular"
+    s.waves.period, s.waves.height, s.waves.ramp_time = period, 2 * amplitude, None
+    if heading_deg is not None:
+        s.waves.heading_deg = heading_deg
+    s.simulation.step = period / steps_per_period
+    s.simulation.duration = round(periods * steps_per_period) * s.simulation.step
+    return s
+
+
 def run_series(scenario: Scenario, *, scene: Scene | None = None, in_process: bool = False) -> Series:
     """Run without a results file; displacements (m, rad) of every active DOF at every step, and the
     wall time of the stepping alone (initialisation excluded)."""

@@ -15,11 +15,11 @@ from mbd_fmu.moorings import catenary_tensions
 from orchestrator.checkpoints import checkpoint_path
 from orchestrator.fmu_builder import build_scene_fmus
 from orchestrator.masters import JacobiMaster
+from orchestrator.overrides import apply_overrides
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import MBD, load_scene
 from orchestrator.simulation import Recorder, make_components, resume_run, run_scenario
-from orchestrator.overrides import apply_overrides
 
 from .conftest import SCENARIOS
 from .test_scenario import assert_rejected, write
@@ -162,7 +162,7 @@ def test_set_override_picks_the_mooring_model() -> None:
     assert s.mooring_lines.model == "quasi_static" and s._overrides == ["mooring_lines.model=quasi_static"]
     from orchestrator.errors import ScenarioError
 
-    with pytest.raises(ScenarioError, match="--set mooring_lines.model: 'cable' is not one of 'quasi_static', 'moordyn'"):
+    with pytest.raises(ScenarioError, match="mooring_lines.model: 'cable' is not one of 'quasi_static', 'moordyn'"):
         scenario(**{"mooring_lines.model": "cable"})
 
 
