@@ -7,8 +7,11 @@ serialises state with JSON and writes an incomplete ``ModelStructure``. This bas
   (``float.F[3]``), read and written in bulk by overridden ``get_real``/``set_real``;
 * lazy outputs: setting an input marks the outputs stale, the next ``get_real`` of an output
   recomputes them once through :meth:`VectorSlave.update_outputs`;
-* full state (physics objects, integrator history) through deep copies, serialised with
-  pickle, so rollback and checkpoints restore everything, not only the registered variables;
+* full state (physics objects, integrator history) through deep copies, serialised as data only
+  (:mod:`fmu_base.state_codec`: JSON and raw arrays, never pickle), so rollback and checkpoints
+  restore everything, not only the registered variables, and a crafted state cannot run code;
+* every exception raised in an FMI call is logged with its message before the host sees the
+  error status, so the user reads the FMU's own message whatever the host;
 * a complete ``ModelStructure`` (``Outputs`` with their true input dependencies and every
   ``InitialUnknown``) and units with ``UnitDefinitions``, so ``fmpy validate`` reports nothing.
 
@@ -20,7 +23,6 @@ from __future__ import annotations
 
 import copy
 import json
-import pickle
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -29,7 +31,10 @@ from xml.etree.ElementTree import Element, SubElement
 
 import numpy as np
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Initial
+from pythonfmu.default_experiment import DefaultExperiment
+from pythonfmu.enums import Fmi2Initial, Fmi2Status
+
+from . import state_codec
 
 SPEC_FILE = "scene_spec.json"
 
@@ -68,6 +73,11 @@ _BASE_UNITS: dict[str, dict[str, int]] = {
     "N.s/m": {"kg": 1, "s": -1},
     "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
     "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
+    "N/rad": {"kg": 1, "m": 1, "s": -2, "rad": -1},
+    "N.s/rad": {"kg": 1, "m": 1, "s": -1, "rad": -1},
+    "N.s": {"kg": 1, "m": 1, "s": -1},
+    "N/s": {"kg": 1, "m": 1, "s": -3},
+    "N.m/s": {"kg": 1, "m": 2, "s": -3},
     "W": {"kg": 1, "m": 2, "s": -3},
     "J": {"kg": 1, "m": 2, "s": -2},
 }
@@ -91,6 +101,54 @@ def load_spec(resources: str | Path | None) -> dict[str, Any]:
     return json.loads(path.read_text())
 
 
+class SerializedState:
+    """An FMU state read by ``fmi2DeSerializeFMUstate``: checked bytes, applied by ``fmi2SetFMUstate``."""
+
+    def __init__(self, data: bytes) -> None:
+        self.data = data
+
+
+# FMI entry points whose exceptions are logged (with the exception's own message) before PythonFMU
+# turns them into an error status; do_step failures become a plain error return (not fatal).
+_LOGGED_CALLS = ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "terminate",
+                 "_get_fmu_state", "_set_fmu_state")
+
+
+def _logged(name: str, method):  # noqa: ANN001, ANN202
+    import functools
+
+    @functools.wraps(method)
+    def call(self, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN202
+        try:
+            return method(self, *args, **kwargs)
+        except Exception as exc:  # noqa: BLE001 - reported to the host, then raised
+            self.log(_describe_failure(name, exc), Fmi2Status.error)
+            raise
+    return call
+
+
+def _logged_step(method):  # noqa: ANN001, ANN202
+    import functools
+
+    @functools.wraps(method)
+    def call(self, current_time: float, step_size: float) -> bool:
+        try:
+            return method(self, current_time, step_size)
+        except Exception as exc:  # noqa: BLE001 - a failed step is an error status, not a crash
+            self.log(_describe_failure(f"do_step at t = {current_time:g} s", exc), Fmi2Status.error)
+            return False
+    return call
+
+
+def _describe_failure(what: str, exc: BaseException) -> str:
+    text = str(exc) or type(exc).__name__
+    if isinstance(exc, state_codec.StateFormatError):
+        return f"invalid FMU state: {text}"
+    if isinstance(exc, (ValueError, RuntimeError, OSError, np.linalg.LinAlgError)):
+        return text
+    return f"{what}: {type(exc).__name__}: {text}"
+
+
 class VectorSlave(Fmi2Slave):
     """PythonFMU slave whose Real variables are views of numpy arrays.
 
@@ -100,6 +158,21 @@ class VectorSlave(Fmi2Slave):
     """
 
     state_attributes: tuple[str, ...] = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls._wrap_fmi_calls()
+
+    @classmethod
+    def _wrap_fmi_calls(cls) -> None:
+        """Log the message of any exception raised in this class's own FMI entry points (see above)."""
+        for name in _LOGGED_CALLS:
+            if name in vars(cls) and not getattr(vars(cls)[name], "_fmi_logged", False):
+                setattr(cls, name, _logged(name, vars(cls)[name]))
+                getattr(cls, name)._fmi_logged = True
+        if "do_step" in vars(cls) and not getattr(vars(cls)["do_step"], "_fmi_logged", False):
+            cls.do_step = _logged_step(vars(cls)["do_step"])
+            cls.do_step._fmi_logged = True
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -139,7 +212,9 @@ class VectorSlave(Fmi2Slave):
             "parameter": Fmi2Variability.fixed,
             "calculatedParameter": Fmi2Variability.fixed,
         }.get(causality, Fmi2Variability.continuous)
-        initial = Fmi2Initial.exact if causality in ("input", "parameter") else None
+        # FMI 2.0 (table of section 2.2.7): a parameter is "exact" (the default), an input takes no initial
+        # attribute at all (its start value is required and written); libcosim rejects initial="exact" there.
+        initial = Fmi2Initial.exact if causality == "parameter" else None
         for i, name in enumerate(names):
             var = Real(
                 name,
@@ -159,6 +234,13 @@ class VectorSlave(Fmi2Slave):
                 self._output_deps[var.value_reference] = depends_on
         self._arrays[key] = values
         return values
+
+    def set_default_experiment(self, spec: dict[str, Any]) -> None:
+        """``DefaultExperiment`` from the scene specification's ``experiment`` (start, stop, step in s): what
+        ``fmpy.simulate_fmu(fmu)`` and other hosts use when not told otherwise."""
+        e = spec.get("experiment")
+        if e:
+            self.default_experiment = DefaultExperiment(start_time=e["start"], stop_time=e["stop"], step_size=e["step"])
 
     def array(self, key: str) -> np.ndarray:
         return self._arrays[key]
@@ -194,24 +276,64 @@ class VectorSlave(Fmi2Slave):
     # ------------------------------------------------------------------ state
     def _get_fmu_state(self) -> dict[str, Any]:
         return {
+            "slave": type(self).__name__,
             "arrays": {k: a.copy() for k, a in self._arrays.items()},
             "attributes": {k: copy.deepcopy(getattr(self, k)) for k in self.state_attributes},
+            "_owner": self,
         }
 
-    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+    def _set_fmu_state(self, state: dict[str, Any] | SerializedState) -> None:
+        if isinstance(state, SerializedState):
+            state = self._decode_state(state.data)
+            for key, value in state["attributes"].items():
+                setattr(self, key, value)
+            state = {"arrays": state["arrays"], "attributes": {}}
         for key, values in state["arrays"].items():
             self._arrays[key][:] = values
         for key, value in state["attributes"].items():
             setattr(self, key, copy.deepcopy(value))
         self._outputs_stale = True
 
+    # PythonFMU's binary calls these two on the class (static methods): the state carries a reference to
+    # its slave ("_owner", not serialised) so that a failure is logged where the host can read it.
     @staticmethod
     def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
-        return pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
+        """The state in :mod:`fmu_base.state_codec`'s data-only layout (never pickle)."""
+        owner = state.get("_owner")
+        try:
+            return state_codec.encode({k: v for k, v in state.items() if k != "_owner"})
+        except Exception as exc:
+            if owner is not None:
+                owner.log(_describe_failure("serialising the FMU state", exc), Fmi2Status.error)
+            raise
 
     @staticmethod
-    def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
-        return pickle.loads(state)
+    def _fmu_state_from_bytes(data: bytes) -> SerializedState:
+        """Kept as bytes: checked and applied onto the live model by ``_set_fmu_state`` (which logs)."""
+        return SerializedState(bytes(data))
+
+    def _decode_state(self, data: bytes) -> dict[str, Any]:
+        """A serialised state decoded onto a copy of the live model (the live one is untouched if the
+        data do not fit it)."""
+        saved_by = state_codec.peek(data, "slave")
+        if saved_by != type(self).__name__:  # refused before any of its objects is read
+            raise state_codec.StateFormatError(
+                f"the state is not a state of this FMU ({type(self).__name__}; got {saved_by!r})")
+        template = {"slave": type(self).__name__, "arrays": {},
+                    "attributes": {k: copy.deepcopy(getattr(self, k)) for k in self.state_attributes}}
+        state = state_codec.decode(data, template)
+        if not isinstance(state, dict) or state.get("slave") != type(self).__name__:
+            raise state_codec.StateFormatError(
+                f"the state is not a state of this FMU ({type(self).__name__}; got "
+                f"{state.get('slave') if isinstance(state, dict) else type(state).__name__!r})")
+        arrays, attributes = state.get("arrays"), state.get("attributes")
+        if not isinstance(arrays, dict) or not isinstance(attributes, dict) or \
+                set(arrays) != set(self._arrays) or set(attributes) != set(self.state_attributes):
+            raise state_codec.StateFormatError("the state's variables do not match this FMU's")
+        for key, values in arrays.items():
+            if not isinstance(values, np.ndarray) or values.shape != self._arrays[key].shape:
+                raise state_codec.StateFormatError(f"the state's variable {key!r} has the wrong size")
+        return {"arrays": arrays, "attributes": attributes}
 
     # ------------------------------------------------------------------ model description
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
@@ -270,6 +392,9 @@ class VectorSlave(Fmi2Slave):
             node = SubElement(structure, "InitialUnknowns")
             for vr in initial:
                 SubElement(node, "Unknown", {"index": str(index_of[vr])})
+
+
+VectorSlave._wrap_fmi_calls()
 
 
 def indexed_names(prefix: str, indices: Sequence[int]) -> list[str]:

@@ -100,13 +100,16 @@ def dof_scales(reference: np.ndarray, floors: np.ndarray | None = None) -> np.nd
     return s if floors is None else np.maximum(s, floors)
 
 
-def scaled_error(reference: np.ndarray, approximation: np.ndarray, scales: np.ndarray | None = None) -> float:
-    """max_ij ||R_ij - X_ij||_2 / sqrt(s_i s_j) over the first axis (s from :func:`dof_scales`)."""
+def scaled_error(reference: np.ndarray, approximation: np.ndarray, scales: np.ndarray | None = None,
+                 column_scales: np.ndarray | None = None) -> float:
+    """max_ij ||R_ij - X_ij||_2 / sqrt(s_i s_j) over the first axis (s from :func:`dof_scales`; for a block of
+    rows i and columns j of a larger kernel, ``scales`` are the rows' and ``column_scales`` the columns')."""
     s = dof_scales(reference) if scales is None else np.asarray(scales, dtype=float)
+    sc = s if column_scales is None else np.asarray(column_scales, dtype=float)
     err = np.sqrt(np.sum(np.abs(reference - approximation) ** 2, axis=0))
-    active = s > 0
-    pair = np.sqrt(np.outer(np.where(active, s, 1.0), np.where(active, s, 1.0)))
-    rel = np.where(active[:, None] & active[None, :], err / pair, 0.0)
+    active, active_c = s > 0, sc > 0
+    pair = np.sqrt(np.outer(np.where(active, s, 1.0), np.where(active_c, sc, 1.0)))
+    rel = np.where(active[:, None] & active_c[None, :], err / pair, 0.0)
     return float(rel.max()) if rel.size else 0.0
 
 
@@ -118,6 +121,7 @@ def fit_state_space(
     max_order: int = DEFAULT_MAX_ORDER,
     kernel_function=None,
     floors: np.ndarray | None = None,
+    groups: list[np.ndarray] | None = None,
 ) -> StateSpaceFit:
     """Fit the lowest order whose kernel error is within ``tolerance`` (module docstring).
 
@@ -125,16 +129,20 @@ def fit_state_space(
         t, kernel: the impulse response on a uniform grid from 0 (m,), (m, n, n).
         omega_max: highest frequency in the kernel (rad/s), sets the sampling D = pi / (2 omega_max).
         tolerance: largest acceptable scaled kernel error.
-        max_order: order limit; :class:`StateSpaceFitError` if no order up to it fits.
+        max_order: order limit (per block with ``groups``); :class:`StateSpaceFitError` if no order up to it
+            fits.
         kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: every
             k-th sample of ``kernel``, k dt the largest multiple of its step not above D).
         floors: lower bounds of the DOF scales of the error measure (:func:`dof_scales`).
+        groups: DOF indices of each body (several bodies): one realisation per ordered pair of bodies
+            (K_ab: velocity of b to force on a), assembled block-diagonally, so that the order grows with the
+            couplings that matter, not with the square of the body count; a pair whose coupling is already
+            within the tolerance of zero (distant bodies) gets none. The error measure is the same
+            entry-wise maximum, so the assembled fit meets the tolerance when every block does.
     """
     if not tolerance > 0:
         raise ValueError(f"state-space tolerance must be positive (got {tolerance})")
-    n = kernel.shape[1]
     norms = dof_scales(kernel, floors)
-    scale = np.where(norms > 0, 1.0 / np.sqrt(np.where(norms > 0, norms, 1.0)), 1.0)
     d = min(np.pi / (2 * omega_max), t[-1] / 8)
     if kernel_function is not None:
         samples_t = np.arange(0.0, t[-1] + 1e-9 * d, d)
@@ -143,29 +151,65 @@ def fit_state_space(
         k = max(1, int(np.floor(d / (t[1] - t[0]) + 1e-9)))
         d = k * (t[1] - t[0])
         samples = kernel[::k]
-    scaled = samples * scale[None, :, None] * scale[None, None, :]
+    if groups is None or len(groups) <= 1:
+        a, b, c, order, err, history = _fit_block(t, kernel, samples, d, norms, norms, tolerance, max_order, "")
+        return StateSpaceFit(a, b, c, order, err, tolerance, history=history)
+    n = kernel.shape[1]
+    parts, worst, history = [], 0.0, []
+    for ga in groups:
+        for gb in groups:
+            block = kernel[:, ga][:, :, gb]
+            zero = scaled_error(block, np.zeros_like(block), norms[ga], norms[gb])
+            if zero <= tolerance:  # coupling within the tolerance of zero: no states
+                worst = max(worst, zero)
+                continue
+            label = f" (block of DOFs {list(map(int, ga))} x {list(map(int, gb))})"
+            a, b, c, order, err, hist = _fit_block(t, block, samples[:, ga][:, :, gb], d, norms[ga], norms[gb],
+                                                  tolerance, max_order, label)
+            parts.append((ga, gb, a, b, c))
+            worst = max(worst, err)
+            history += hist
+    r = sum(p[2].shape[0] for p in parts)
+    a, b, c = np.zeros((r, r)), np.zeros((r, n)), np.zeros((n, r))
+    k = 0
+    for ga, gb, ab, bb, cb in parts:
+        o = ab.shape[0]
+        a[k:k + o, k:k + o] = ab
+        b[k:k + o, gb] = bb
+        c[ga, k:k + o] = cb
+        k += o
+    return StateSpaceFit(a, b, c, r, worst, tolerance, history=history)
+
+
+def _fit_block(t: np.ndarray, kernel: np.ndarray, samples: np.ndarray, d: float, rows: np.ndarray,
+               cols: np.ndarray, tolerance: float, max_order: int, label: str) -> tuple:
+    """ERA fit of one (m, p, q) kernel block with row and column scales: (a, b, c, order, error, history)."""
+    p = kernel.shape[1]
+    scale_r = np.where(rows > 0, 1.0 / np.sqrt(np.where(rows > 0, rows, 1.0)), 1.0)
+    scale_c = np.where(cols > 0, 1.0 / np.sqrt(np.where(cols > 0, cols, 1.0)), 1.0)
+    scaled = samples * scale_r[None, :, None] * scale_c[None, None, :]
     h0, h1 = _hankel(scaled)
     u, s, vt = np.linalg.svd(h0, full_matrices=False)
     history = []
     best = None
-    limit = min(max_order, int(np.sum(s > s[0] * 1e-12)))
+    limit = min(max_order, int(np.sum(s > s[0] * 1e-12))) if s.size and s[0] > 0 else 0
     for order in range(1, limit + 1):
-        fit = _realise(u, s, vt, h1, order, n, d, scaled)
+        fit = _realise(u, s, vt, h1, order, p, d, scaled)
         if fit is None:
             continue
         a, b, c = fit
-        c = c / scale[:, None]
-        b = b / scale[None, :]
-        err = scaled_error(kernel, _response(a, b, c, t), norms)
+        c = c / scale_r[:, None]
+        b = b / scale_c[None, :]
+        err = scaled_error(kernel, _response(a, b, c, t), rows, cols)
         history.append((order, err))
         if best is None or err < best[3]:
             best = (a, b, c, err, order)
         if err <= tolerance:
-            return StateSpaceFit(a, b, c, order, err, tolerance, history=history)
+            return a, b, c, order, err, history
     if best is None:
-        raise StateSpaceFitError("no stable state-space realisation could be formed from the impulse response")
+        raise StateSpaceFitError(f"no stable state-space realisation could be formed from the impulse response{label}")
     raise StateSpaceFitError(
-        f"no state-space realisation up to order {max_order} reaches the tolerance {tolerance:g} "
+        f"no state-space realisation up to order {max_order} reaches the tolerance {tolerance:g}{label} "
         f"(best: order {best[4]}, error {best[3]:.3g}); raise hydro.state_space_max_order or the tolerance")
 
 
@@ -202,15 +246,15 @@ def _realise(u: np.ndarray, s: np.ndarray, vt: np.ndarray, h1: np.ndarray, order
 
 def _refit_input(a: np.ndarray, c: np.ndarray, samples: np.ndarray, d: float) -> np.ndarray:
     """B minimising sum_k ||C exp(A k D) B - K_k||^2 (linear least squares, A and C fixed)."""
-    m, n, _ = samples.shape
+    m, p, q = samples.shape
     step = expm(a * d)
     rows = []
     power = np.eye(a.shape[0])
     for _ in range(m):
         rows.append(c @ power)
         power = power @ step
-    design = np.concatenate(rows, axis=0)  # (m n, r)
-    target = samples.reshape(m * n, n)
+    design = np.concatenate(rows, axis=0)  # (m p, r)
+    target = samples.reshape(m * p, q)
     b, *_ = np.linalg.lstsq(design, target, rcond=None)
     return b
 
@@ -286,6 +330,10 @@ class StateSpaceMemory:
         """mu at the current time given the current velocity (N; the radiation force is -mu)."""
         self.w[self.r + self.n :] = v_now
         return self._update(self.pending)[1] @ self.w
+
+    def instantaneous_damping(self) -> np.ndarray:
+        """d mu / d v_now (n, n), N s/m: C G1 of the step since the last commit (about K(0) h / 2)."""
+        return self._update(self.pending)[1][:, self.r + self.n :].copy()
 
     def step(self, v_now: np.ndarray, h: float) -> None:
         """Commit the current velocity and move ``h`` seconds on (any h > 0)."""

@@ -47,12 +47,15 @@ from scipy.linalg import lu_factor, lu_solve, qr
 from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import splu
 
+from . import kernels
 from .assembly import independent_rows
+from .fast import CompiledModel, compiled_model
 from .integrators import TABLEAUS, GeneralizedAlphaCoefficients, rkmk_step
 from .kinematics import Pose
 from .model import MultibodyModel
 
 FORMULATIONS = ("index3", "index1", "nullspace")
+_NO_LU, _NO_PIV = np.zeros((0, 0)), np.zeros(0, dtype=np.int64)
 RESTARTS = ("consistent", "acceleration", "none")
 
 
@@ -134,6 +137,34 @@ class Formulation:
         self.newton_retries = 0
         self.steps = 0
         self.row_changes = 0
+        self._row_search: tuple[int, float] | None = None  # (step, best row quality) of the last search
+        self._quality: tuple[int, float] | None = None  # (step, kept rows' quality) after a compiled step
+        self._compiled: CompiledModel | None | bool = False  # False: not looked at yet
+        self.python_path = False  # True: never use the compiled path (comparisons, benchmarks)
+
+    def __getstate__(self) -> dict:
+        """The compiled plan is derived from the model: not saved, rebuilt after a restore."""
+        state = self.__dict__.copy()
+        state["_compiled"] = False
+        return state
+
+    @property
+    def compiled(self) -> CompiledModel | None:
+        """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path; looked at again
+        when elements or drivers are added to the model (e.g. an FMU's input-force element after the start)."""
+        if self.python_path:
+            return None
+        m = self.model
+        signature = (len(m.elements), type(m.elements[-1]).__name__ if m.elements else "", len(m.drivers))
+        changed = signature != getattr(self, "_signature", None)
+        if self._compiled is False or changed:
+            # after a restore the plan is rebuilt from the same model: the saved factors stay valid (a restored
+            # run repeats the original bit for bit); a changed model drops them
+            self._compiled = compiled_model(m)
+            self._signature = signature
+            if changed:
+                self._lu_key = None
+        return self._compiled
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
@@ -157,6 +188,13 @@ class Formulation:
 
     def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """Consistent ``v'`` and ``lambda`` (kept rows) from the saddle-point system."""
+        cm = self.compiled
+        if cm is not None:
+            vd, lam = kernels.acceleration_packed(*cm.plan(), pose.r, pose.R, np.asarray(v, float), self.inputs,
+                                                  cm.refs)
+            if not np.all(np.isfinite(vd)):
+                raise np.linalg.LinAlgError("singular mass or constraint matrix (consistent acceleration)")
+            return vd, lam
         m = self.model
         k = m.kin(pose, v, t)
         mass = m.mass_matrix(pose, k)
@@ -174,17 +212,32 @@ class Formulation:
     def reselect_rows(self) -> None:
         """With redundant constraints, re-choose the independent rows at the current pose when the kept
         set has become less than half as well conditioned as the best one (the best set changes along
-        the motion, e.g. in Bricard's linkage); multipliers are carried over."""
+        the motion, e.g. in Bricard's linkage); multipliers are carried over.
+
+        The search for the best set (QR with column pivoting of all rows) is made when the kept set's quality
+        is below 0.5 (no set can be twice as good otherwise: quality <= 1) and has fallen below 0.6 times the
+        best set's quality at the last search, or 1000 steps after it: between searches the best set would have
+        to improve by a fifth for a switch to be missed (impossible when it was above 0.84, as the quality is at
+        most 1), and then only until the next search; a missed switch costs conditioning, not accuracy."""
         m = self.model
         if len(m.kept) == m.m:
             return
-        k = m.kin(self.pose, self.v, self.t)
-        if _row_quality(m.constraint(k, gamma=False).jac) >= 0.5:  # no set can be twice as good: quality <= 1
+        cm = self.compiled
+        if cm is not None and self._quality is not None and self._quality[0] == self.steps:
+            quality = self._quality[1]  # computed by the compiled step at its end pose
+        elif cm is not None:
+            quality = kernels.row_quality(*cm.plan(), self.pose.r, self.pose.R)
+        else:
+            quality = _row_quality(m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac)
+        last = self._row_search
+        if quality >= 0.5 or (last is not None and quality >= 0.6 * last[1] and self.steps - last[0] < 1000):
             return
-        _, jf, _, _ = m.constraint_full(k, gamma=False)
+        _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
         c = jf[:, m.sel]
         kept, _, _ = independent_rows(c, rank=len(m.kept))
-        if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * _row_quality(c[kept]):
+        best = _row_quality(c[kept])
+        self._row_search = (self.steps, best)
+        if not np.array_equal(kept, m.kept) and _row_quality(c[m.kept]) < 0.5 * best:
             force = c[m.kept].T @ self.lam
             m.kept = kept
             self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
@@ -193,6 +246,10 @@ class Formulation:
     def _finish(self, h: float) -> None:
         self.t += h
         self.steps += 1
+        cm = self.compiled
+        if cm is not None:  # compiled models' only non-trivial commit: angle unwrapping
+            cm.commit(kernels.committed(*cm.plan(), self.pose.r, self.pose.R, self.v, cm.refs))
+            return
         self.model.commit(self.model.kin(self.pose, self.v, self.t))
 
 
@@ -202,9 +259,15 @@ class Index3(Formulation):
     def __init__(self, model: MultibodyModel, settings: Settings) -> None:
         super().__init__(model, settings)
         self.coef = GeneralizedAlphaCoefficients(settings.spectral_radius)
+        c = self.coef
+        self._coef = np.array([c.alpha_m, c.alpha_f, c.gamma, c.beta])
         self.a: np.ndarray | None = None
         self.stiff_restarts = 0
         self._iteration = None  # (step size and kept rows, factorised iteration matrix)
+        # compiled path: LU factors of the kept iteration matrix (plain arrays), its step size and kept rows
+        self._lu: np.ndarray | None = None
+        self._piv: np.ndarray | None = None
+        self._lu_key: tuple | None = None
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         super().initialize(pose, v, t, inputs)
@@ -220,6 +283,12 @@ class Index3(Formulation):
         delta = self.coef.alpha_m - self.coef.alpha_f
         if self.settings.restart == "acceleration" or delta == 0.0:
             return self.vdot.copy()
+        cm = self.compiled
+        if cm is not None:
+            a, stiff = kernels.start_acceleration(*cm.plan(), self.pose.r, self.pose.R, self.v, self.vdot, self.inputs,
+                                                  cm.refs, h, delta)
+            self.stiff_restarts += int(stiff)
+            return a
         eps = 1e-5 * h
         m = self.model
         fwd = self.pose.retract(m.full(eps * self.v))
@@ -234,6 +303,8 @@ class Index3(Formulation):
         return self.vdot + correction
 
     def step(self, h: float) -> None:
+        if self.compiled is not None and self._compiled_step(h):
+            return
         self.reselect_rows()
         m, c = self.model, self.coef
         if self.a is None:
@@ -329,6 +400,46 @@ class Index3(Formulation):
         self._finish(h)
 
 
+    def _compiled_step(self, h: float) -> bool:
+        """The step in one compiled call (:func:`mbd_fmu.kernels.ga_full_step`, the same iteration as :meth:`step`);
+        False if it did not converge (the Python path then takes the step, with its own retries and errors)."""
+        self.reselect_rows()
+        cm, m = self.compiled, self.model
+        if self.a is None:
+            self.a = self._start_acceleration(h)
+        ip, fp = cm.plan()
+        kept = m.kept
+        n, r, nb = m.n, len(kept), m.N
+        nn = n + r
+        for _ in range(2):
+            have = self._lu_key is not None and self._lu_key[0] == h and (
+                self._lu_key[1] is kept or np.array_equal(self._lu_key[1], kept))
+            if not have and (self._lu is None or self._lu.shape[0] != nn):
+                self._lu, self._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
+            status, iterations, keep, quality, out = kernels.ga_full_step(
+                ip, fp, self.pose.r, self.pose.R, self.v, self.vdot, self.a, self.lam, self.inputs, cm.refs, h,
+                self._coef, self.settings.newton_tolerance, self.length, self.settings.max_iterations, self._lu,
+                self._piv, have)
+            self.newton_iterations += iterations
+            if status == 0 or not have:
+                break
+            self._lu_key = None  # a stale matrix from earlier steps: retry with a fresh one
+            self.newton_retries += 1
+        if status != 0:
+            self._lu_key = None
+            return False
+        self._lu_key = (h, kept) if keep else None  # the buffers stay; the key says whether they hold factors
+        k = n + r + 12 * nb
+        self.vdot, self.lam = out[:n], out[n:nn]
+        self.pose = Pose(out[nn:nn + 3 * nb].reshape(nb, 3), out[nn + 3 * nb:k].reshape(nb, 3, 3))
+        self.v, self.a = out[k:k + n], out[k + n:k + 2 * n]
+        self._quality = (self.steps + 1, quality)
+        self.t += h
+        self.steps += 1
+        cm.commit(out[k + 2 * n:])
+        return True
+
+
 class Index1(Formulation):
     """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
 
@@ -337,6 +448,21 @@ class Index1(Formulation):
         self.reselect_rows()
         m = self.model
         tab = TABLEAUS[self.settings.integrator]
+        cm = self.compiled
+        if cm is not None:  # the whole step in one compiled call (kernels.rkmk_index1)
+            vdot = self.vdot if m.kept is kept else self.acceleration(self.pose, self.v, self.t)[0]
+            ok, r1, rot1, v1, vd1, lam1, refs = kernels.rkmk_index1(
+                *cm.plan(), self.pose.r, self.pose.R, self.v, vdot, self.inputs, cm.refs, h, *_tableau_arrays(tab),
+                1e-3 * self.settings.newton_tolerance * self.length, self.settings.max_iterations)
+            if not ok:
+                raise ConvergenceError(f"position projection did not converge at t = {self.t + h:g} s")
+            if not np.all(np.isfinite(vd1)):
+                raise np.linalg.LinAlgError("singular mass or constraint matrix (consistent acceleration)")
+            self.pose, self.v, self.vdot, self.lam = Pose(r1, rot1), v1, vd1, lam1
+            self.t += h
+            self.steps += 1
+            cm.commit(refs)
+            return
         # the first stage is at the current state, whose consistent acceleration is known (same rows)
         known = self.vdot if m.kept is kept else None
 
@@ -483,14 +609,18 @@ class NullSpace(Formulation):
         return np.linalg.solve(ev.jac[:, self.dep].T, res[self.dep])
 
 
-def _saddle_point(s: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """``[[S, C^T], [C, 0]]``."""
-    n, r = s.shape[0], c.shape[0]
-    out = np.zeros((n + r, n + r))
-    out[:n, :n] = s
-    out[:n, n:] = c.T
-    out[n:, :n] = c
-    return out
+_TABLEAU_ARRAYS: dict = {}
+
+
+def _tableau_arrays(tab) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b) of a Butcher tableau as arrays (for the compiled step), built once per method."""
+    if id(tab) not in _TABLEAU_ARRAYS:
+        _TABLEAU_ARRAYS[id(tab)] = (np.array(tab.a, dtype=float).reshape(len(tab.b), -1), np.array(tab.b, dtype=float))
+    return _TABLEAU_ARRAYS[id(tab)]
+
+
+# ``[[S, C^T], [C, 0]]``: the kernels' function, called as plain Python on this path
+_saddle_point = getattr(kernels.saddle, "py_func", kernels.saddle)
 
 
 def _row_quality(rows: np.ndarray) -> float:

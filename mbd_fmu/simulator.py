@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from . import kernels
 from .assembly import MobilityReport, analyse, assemble
 from .force_elements import CoordinateSpringDamper
 from .formulations import Settings, make_formulation
@@ -49,6 +50,9 @@ class MultibodySimulator:
         self.report = analyse(self.model, pose, t)
         pose, v, moved = assemble(self.model, pose, np.asarray(v, float), t)
         self.report = analyse(self.model, pose, t)
+        k = self.model.kin(pose, v, t)
+        for e in self.model.elements:
+            e.start(k)
         self.formulation.initialize(pose, v, t, inputs)
         self.energy0 = self.mechanical_energy()
         self.dissipated = 0.0
@@ -57,11 +61,13 @@ class MultibodySimulator:
         return moved
 
     # ------------------------------------------------------------------ stepping
-    def advance(self, h: float, inputs: np.ndarray | None = None) -> None:
-        """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held."""
+    def advance(self, h: float, inputs: np.ndarray | None = None, restart: bool = False) -> None:
+        """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held; ``restart``: a force element's
+        input changed (e.g. :class:`LinearisedInputForce`), restart the formulation even if ``inputs`` did not."""
         f = self.formulation
-        if inputs is not None:
-            f.set_inputs(inputs)
+        if inputs is not None or restart:
+            if not (inputs is not None and f.set_inputs(inputs)) and restart:
+                f.on_restart()
             # The held input's power at the start of the step (the trapezoidal rule below must pair the
             # same input at both ends of each substep: mixing in the previous step's input is an O(h) error).
             self._powers = self.powers()
@@ -92,21 +98,51 @@ class MultibodySimulator:
     def time(self) -> float:
         return self.formulation.t
 
+    def compiled_outputs(self) -> dict | None:
+        """The outputs of the current state from one compiled call (:func:`mbd_fmu.kernels.outputs`), kept until
+        the state changes; None on the Python path."""
+        f = self.formulation
+        cm = f.compiled
+        if cm is None:
+            return None
+        plan = cm.plan()  # PTO commands of now
+        key = (f.steps, f.t, id(f.pose), id(f.lam), cm.spring_par.tobytes())
+        cached = getattr(self, "_outputs", None)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        flat = kernels.outputs(*plan, f.pose.r, f.pose.R, f.v, f.lam, cm.refs)
+        nb, nj, nc = self.model.N, len(self.model.joints), len(cm.coordinates)
+        o = 6 * nb + 3
+        out = {"displacement": flat[:6 * nb].reshape(nb, 6), "kinetic": flat[6 * nb], "potential": flat[6 * nb + 1],
+               "violation": flat[6 * nb + 2], "reactions": flat[o:o + 6 * nj].reshape(nj, 6),
+               "coordinates": flat[o + 6 * nj:o + 6 * nj + 2 * nc].reshape(nc, 2),
+               "spring_forces": flat[o + 6 * nj + 2 * nc:]}
+        self._outputs = (key, out)
+        return out
+
     def displacement(self, d: np.ndarray | None = None) -> np.ndarray:
         """x on the model's coordinates: (n,), from the bodies' displacements ``d`` (N, 6) if already known."""
-        d = self.model.displacement(self.formulation.pose) if d is None else d
+        if d is None:
+            out = self.compiled_outputs()
+            d = out["displacement"] if out is not None else self.model.displacement(self.formulation.pose)
         return np.array([d[self.model.index(b), dof] for b, dof in self.model.coordinates])
 
     def velocity(self) -> np.ndarray:
         return self.formulation.v.copy()
 
     def mechanical_energy(self) -> float:
+        out = self.compiled_outputs()
+        if out is not None:
+            return float(out["kinetic"] + out["potential"])
         f = self.formulation
         return self.model.kinetic_energy(f.pose, f.v) + self.model.potential_energy(self.kin)
 
     def powers(self) -> tuple[float, float]:
         """(dissipated power, power supplied from outside) now."""
         m, f = self.model, self.formulation
+        cm = f.compiled
+        if cm is not None:
+            return kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]
         diss = sum(p[0] for p in powers)
@@ -117,25 +153,42 @@ class MultibodySimulator:
 
     def energy(self) -> dict[str, float]:
         f = self.formulation
-        t = self.model.kinetic_energy(f.pose, f.v)
-        v = self.model.potential_energy(self.kin)
+        out = self.compiled_outputs()
+        if out is not None:
+            t, v = float(out["kinetic"]), float(out["potential"])
+        else:
+            t = self.model.kinetic_energy(f.pose, f.v)
+            v = self.model.potential_energy(self.kin)
         return {"kinetic": t, "potential": v, "dissipated": self.dissipated, "external_work": self.work,
                 "balance": t + v + self.dissipated - self.work - self.energy0}
 
     def constraint_violation(self) -> float:
+        out = self.compiled_outputs()
+        if out is not None:
+            return float(out["violation"])
         phi = self.model.constraint_full(self.kin, gamma=False, jac=False)[0]
         return float(np.max(np.abs(phi))) if phi.size else 0.0
 
     def joint_coordinates(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        compiled = self.compiled_outputs()
+        if compiled is not None:
+            index = {id(c): i for i, c in enumerate(self.formulation.compiled.coordinates)}
+            values = compiled["coordinates"]
         k = self.kin
         out = []
         for cj in self.model.joints:
-            vals = [c.rate(k) for c in cj.coordinates]
+            if compiled is not None:
+                vals = [values[index[id(c)]] if id(c) in index else c.rate(k)[:2] for c in cj.coordinates]
+            else:
+                vals = [c.rate(k) for c in cj.coordinates]
             out.append((np.array([v[0] for v in vals]), np.array([v[1] for v in vals])))
         return out
 
     def reactions(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """Per joint: force and moment about the joint point on body 2 from body 1 (world)."""
+        compiled = self.compiled_outputs()
+        if compiled is not None:
+            return [(r[:3].copy(), r[3:].copy()) for r in compiled["reactions"]]
         m, f = self.model, self.formulation
         k = self.kin
         lam = np.zeros(m.m)
@@ -153,6 +206,17 @@ class MultibodySimulator:
 
     def pto_outputs(self) -> np.ndarray:
         """(n_pto, 4): coordinate from neutral, rate, force, absorbed power."""
+        compiled = self.compiled_outputs()
+        if compiled is not None:
+            cm = self.formulation.compiled
+            springs = {id(e): i for i, e in enumerate(cm.springs)}
+            coords = {id(c): i for i, c in enumerate(cm.coordinates)}
+            rows = []
+            for p in self.ptos:
+                q, v = compiled["coordinates"][coords[id(p.coordinate)]]
+                force = float(compiled["spring_forces"][springs[id(p)]])
+                rows.append((q - p.neutral, v, force, -force * v))
+            return np.array(rows).reshape(len(self.ptos), 4)
         k = self.kin
         rows = []
         for p in self.ptos:

@@ -124,6 +124,7 @@ class FmuComponent(_Base):
     def __init__(self, name: str, fmu_path: str | Path) -> None:
         super().__init__(name, fmu_path)
         md = self.model_description
+        self.dead = False
         self.instance_name = f"{name}#{next(_INSTANCE_IDS)}"
         self.messages = _LOGS.setdefault(self.instance_name, deque(maxlen=50))
         self.fmu = FMU2Slave(
@@ -139,11 +140,28 @@ class FmuComponent(_Base):
         self._step = self.fmu.fmi2DoStep
 
     def _call(self, what: str, fn, *args: Any, **kwargs: Any) -> Any:  # noqa: ANN001
+        seen = len(self.messages)
         try:
             return fn(*args, **kwargs)
         except (FMICallException, Exception) as exc:  # fmpy raises a bare Exception on instantiate
-            detail = " | ".join(list(self.messages)[-3:]) if self.messages else str(exc)
-            raise MasterError(f"{self.name} FMU: {what} failed: {detail}") from None
+            self._failed(exc)
+            raise MasterError(f"{self.name} FMU: {what} failed: {self._detail(seen, str(exc))}") from None
+
+    def _failed(self, exc: BaseException) -> None:
+        """After fmi2Fatal (PythonFMU's status for an exception in the slave) the FMI standard allows no
+        further call, not even fmi2Terminate or fmi2FreeInstance: PythonFMU's binary crashes on them."""
+        if not isinstance(exc, FMICallException) or getattr(exc, "status", 4) >= 4:
+            self.dead = True
+
+    def _detail(self, seen: int, fallback: str) -> str:
+        """The FMU's own messages logged during the failed call (PythonFMU's generic wrapper text dropped)."""
+        new = list(self.messages)[seen:] if len(self.messages) >= seen else list(self.messages)
+        out: list[str] = []
+        for m in new:
+            if m.startswith("Fatal py exception encountered") or m in out:
+                continue
+            out.append(m)
+        return " | ".join(out[-3:]) if out else (fallback or "no message from the FMU")
 
     def setup(self, start_time: float, stop_time: float | None = None) -> None:
         self._call("setupExperiment", self.fmu.setupExperiment, startTime=start_time, stopTime=stop_time)
@@ -157,27 +175,30 @@ class FmuComponent(_Base):
     # fmpy's function wrappers raise FMICallException for any status worse than warning.
     def set_reals(self, port: Port, values: np.ndarray) -> None:
         port.values[:] = values
+        seen = len(self.messages)
         try:
             self._set(self._c, port.c_vrs, len(port.vrs), port.c_values)
-        except FMICallException:
-            self._raise("fmi2SetReal")
+        except FMICallException as exc:
+            self._raise("fmi2SetReal", exc, seen)
 
     def get_reals(self, port: Port) -> np.ndarray:
+        seen = len(self.messages)
         try:
             self._get(self._c, port.c_vrs, len(port.vrs), port.c_values)
-        except FMICallException:
-            self._raise("fmi2GetReal")
+        except FMICallException as exc:
+            self._raise("fmi2GetReal", exc, seen)
         return port.values.copy()
 
     def do_step(self, t: float, h: float) -> None:
+        seen = len(self.messages)
         try:
             self._step(self._c, t, h, 1)
-        except FMICallException:
-            self._raise(f"fmi2DoStep at t = {t:g} s")
+        except FMICallException as exc:
+            self._raise(f"doStep at t = {t:g} s", exc, seen)
 
-    def _raise(self, what: str) -> None:
-        detail = self.messages[-1] if self.messages else "no message from the FMU"
-        raise MasterError(f"{self.name} FMU: {what} failed: {detail}") from None
+    def _raise(self, what: str, exc: FMICallException, seen: int) -> None:
+        self._failed(exc)
+        raise MasterError(f"{self.name} FMU: {what} failed: {self._detail(seen, '')}") from None
 
     def get_state(self) -> Any:
         return self._call("getFMUstate", self.fmu.getFMUstate)
@@ -195,11 +216,13 @@ class FmuComponent(_Base):
         return self._call("deSerializeFMUstate", self.fmu.deSerializeFMUstate, data)
 
     def terminate(self) -> None:
-        try:
-            self.fmu.terminate()
-            self.fmu.freeInstance()
-        except Exception:  # noqa: BLE001 - best effort on shutdown
-            pass
+        if not self.dead:
+            try:
+                self.fmu.terminate()
+                self.fmu.freeInstance()
+            except Exception:  # noqa: BLE001 - best effort on shutdown
+                pass
+            self.dead = True
         _forget_path(Path(self._unzip) / "resources")  # PythonFMU put it on sys.path
         _LOGS.pop(self.instance_name, None)
         shutil.rmtree(self._unzip, ignore_errors=True)
@@ -228,14 +251,29 @@ class InProcessComponent(_Base):
         cls = getattr(module, md.modelName)
         self.slave = cls(instance_name=name, resources=str(resources))
 
+    def _call(self, what: str, fn, *args: Any) -> Any:  # noqa: ANN001
+        """Call the slave; an exception becomes the same error as through fmpy: the FMU's own message."""
+        seen = len(self.slave.log_queue)
+        try:
+            return fn(*args)
+        except Exception as exc:  # noqa: BLE001 - the slave logged its message (fmu_base.slave)
+            raise MasterError(f"{self.name} FMU: {what} failed: {self._detail(seen, str(exc))}") from None
+
+    def _detail(self, seen: int, fallback: str) -> str:
+        out: list[str] = []
+        for record in list(self.slave.log_queue)[seen:]:
+            if record.msg not in out:
+                out.append(record.msg)
+        return " | ".join(m.replace("%%", "%") for m in out[-3:]) if out else (fallback or "no message from the FMU")
+
     def setup(self, start_time: float, stop_time: float | None = None) -> None:
-        self.slave.setup_experiment(start_time, stop_time, None)
+        self._call("setupExperiment", self.slave.setup_experiment, start_time, stop_time, None)
 
     def enter_initialization(self) -> None:
-        self.slave.enter_initialization_mode()
+        self._call("enterInitializationMode", self.slave.enter_initialization_mode)
 
     def exit_initialization(self) -> None:
-        self.slave.exit_initialization_mode()
+        self._call("exitInitializationMode", self.slave.exit_initialization_mode)
 
     def set_reals(self, port: Port, values: np.ndarray) -> None:
         self.slave.set_real(port.vrs, values.tolist())
@@ -244,24 +282,24 @@ class InProcessComponent(_Base):
         return np.array(self.slave.get_real(port.vrs))
 
     def do_step(self, t: float, h: float) -> None:
+        seen = len(self.slave.log_queue)
         if not self.slave.do_step(t, h):
-            detail = self.slave.log_queue[-1].msg if self.slave.log_queue else "do_step returned False"
-            raise MasterError(f"{self.name}: doStep at t = {t:g} s failed: {detail}")
+            raise MasterError(f"{self.name} FMU: doStep at t = {t:g} s failed: {self._detail(seen, '')}")
 
     def get_state(self) -> Any:
         return self.slave._get_fmu_state()
 
     def set_state(self, state: Any) -> None:
-        self.slave._set_fmu_state(state)
+        self._call("setFMUstate", self.slave._set_fmu_state, state)
 
     def free_state(self, state: Any) -> None:
         pass
 
     def serialize_state(self, state: Any) -> bytes:
-        return self.slave._fmu_state_to_bytes(state)
+        return self._call("serializeFMUstate", self.slave._fmu_state_to_bytes, state)
 
     def deserialize_state(self, data: bytes) -> Any:
-        return self.slave._fmu_state_from_bytes(data)
+        return self._call("deSerializeFMUstate", self.slave._fmu_state_from_bytes, data)
 
     def terminate(self) -> None:
         self.slave.terminate()

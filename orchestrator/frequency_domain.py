@@ -189,10 +189,11 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
     rows ``C`` of the constraint Jacobian and its null space ``P`` (reduced: ``P^T Z P``)."""
     mech = mechanical_matrices(scene)
     sim, model, lin, rows = mech.simulator, mech.system, mech.linearization, mech.rows
+    pose = scene.linearisation_pose(model)
     z, f, stiffness = _impedance(scene, omega, mech.mass, mech.damping, mech.stiffness, rows,
                                  radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     p = lin.null_space
-    kin = model.kin(model.reference, np.zeros(model.n))
+    kin = model.kin(pose, np.zeros(model.n))
     pto_rows = {pto.name: (_coordinate_row(model, pto.coordinate, kin), pto.damping, pto) for pto in sim.ptos}
     return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows,
                        full_impedance=z, full_excitation=f, constraint=lin.constraint_jacobian,
@@ -222,7 +223,8 @@ class MechanicalMatrices:
 
 
 def mechanical_matrices(scene: Scene) -> MechanicalMatrices:
-    """M, D, K of the scene's multibody model about equilibrium (``mbd_fmu.linearize`` if constrained)."""
+    """M, D, K of the scene's multibody model about equilibrium (``mbd_fmu.linearize`` if constrained, about the
+    static equilibrium when the scene asks for it: ``Scene.linearisation_pose``)."""
     if scene.scenario.formulation == "linear":
         system = scene.multibody_system(added_mass=False)
         rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
@@ -230,7 +232,7 @@ def mechanical_matrices(scene: Scene) -> MechanicalMatrices:
     from mbd_fmu.linearize import linearize
 
     sim = scene.multibody_simulator(added_mass=False)
-    lin = linearize(sim.model)
+    lin = linearize(sim.model, scene.linearisation_pose(sim.model))
     rows = [sim.model.slot_of(b, d) for b, d in scene.hydro_coordinates]
     return MechanicalMatrices(lin.mass, lin.damping, lin.stiffness, rows, lin.null_space, sim.model, sim, lin)
 

@@ -93,6 +93,7 @@ class MasterSettings:
     relaxation: float = 0.5
     reuse: int = 4
     divergence_limit: float = 1e8
+    energy_scale: float = 1.0  # J: the scene's own energy scale (weight of its bodies times a length)
 
 
 @dataclass
@@ -144,8 +145,10 @@ class Master:
         *,
         settings: MasterSettings | None = None,
         added_mass: AddedMassForce | None = None,
+        parameters: dict[str, dict[str, float]] | None = None,
     ) -> None:
         self.settings = settings or MasterSettings(extrapolation=extrapolation)
+        self.initial_parameters = parameters or {}  # set at every initialisation (before ``initialize``'s own)
         if self.settings.extrapolation not in (0, 1, 2):
             raise ValueError("extrapolation order must be 0, 1 or 2")
         self.extrapolation = self.settings.extrapolation
@@ -236,7 +239,10 @@ class Master:
         self.time = start_time
         for c in self.components.values():
             c.setup(start_time, stop_time)
+        merged = {c: dict(v) for c, v in self.initial_parameters.items()}
         for name, values in (parameters or {}).items():
+            merged.setdefault(name, {}).update(values)
+        for name, values in merged.items():
             comp = self.components[name]
             comp.set_reals(comp.port(list(values)), np.array(list(values.values()), dtype=float))
         for c in self.components.values():
@@ -257,14 +263,31 @@ class Master:
             u[pos] = outputs[src][out]
         return u
 
+    def _limits(self, name: str, values: np.ndarray) -> np.ndarray:
+        """Divergence limit of each output of ``name``, relative to the scene's own scales: ``divergence_limit``
+        times the larger of 1 and the output's first value (static loads, large bodies), and for energies
+        (``energy.*``) also the scene's energy scale (``energy_scale``: energies start at zero)."""
+        limits = getattr(self, "_divergence_limits", None)
+        if limits is None:
+            limits = self._divergence_limits = {}
+        if name not in limits:
+            scale = np.maximum(1.0, np.where(np.isfinite(values), np.abs(values), 1.0))
+            energy = np.array([v.startswith("energy.") for v in self.output_names[name]], dtype=bool)
+            if energy.any():
+                scale[energy] = max(float(scale[energy].max()), self.settings.energy_scale)
+            limits[name] = self.settings.divergence_limit * scale
+        return limits[name]
+
     def _read(self, name: str) -> np.ndarray:
         values = self.components[name].get_reals(self.output_ports[name])
-        # One reduction catches NaN (comparison false), infinities and values beyond the limit.
-        if values.size and not np.abs(values).max() <= self.settings.divergence_limit:
-            bad = ~np.isfinite(values) | (np.abs(values) > self.settings.divergence_limit)
-            var = self.output_names[name][int(np.argmax(bad))]
-            what = "is not finite" if not np.isfinite(values[bad][0]) else (
-                f"exceeds {self.settings.divergence_limit:g} in magnitude")
+        limit = self._limits(name, values)
+        # One comparison catches NaN (comparison false), infinities and values beyond the limit.
+        if values.size and not np.all(np.abs(values) <= limit):
+            bad = ~(np.abs(values) <= limit)
+            k = int(np.argmax(bad))
+            var = self.output_names[name][k]
+            what = "is not finite" if not np.isfinite(values[k]) else (
+                f"exceeds {limit[k]:g} in magnitude (divergence_limit times its scale in this scene)")
             raise MasterError(
                 f"{name}: output {var} {what} at t = {self.time:g} s; the coupled system diverged or was "
                 "given invalid inputs (try a smaller step, or check the scenario)")
@@ -293,11 +316,16 @@ class Master:
                 self._scale[c] = np.maximum(self._scale.get(c, scale), scale)
 
     def _weights(self, tau: tuple[float, ...], h: float, point: float | None = None) -> np.ndarray:
-        """Cached: with fixed steps the same few weight vectors serve the whole run."""
+        """Cached: with fixed steps the same few weight vectors serve the whole run.
+
+        The weights are computed from the rounded key itself, never from the first unrounded
+        times that produced it: the cache is then a pure function of its key, so a run resumed
+        from a checkpoint (empty cache) uses bit for bit the weights of an uninterrupted run."""
         key = (tuple(round(x, 12) for x in tau), round(h, 12), point)
         w = self._weights_cache.get(key)
         if w is None:
-            w = step_average_weights(tau, h) if point is None else point_weights(tau, point)
+            tau_k, h_k = key[0], key[1]
+            w = step_average_weights(tau_k, h_k) if point is None else point_weights(tau_k, point)
             if len(self._weights_cache) > 256:
                 self._weights_cache.clear()
             self._weights_cache[key] = w
@@ -716,13 +744,16 @@ MASTERS = {"jacobi": JacobiMaster, "gauss_seidel": GaussSeidelMaster}
 
 
 def make_master(kind: str, components: dict, connections: list[Connection], settings: MasterSettings,
-                observe: dict[str, list[str]] | None = None, added_mass: AddedMassForce | None = None) -> Master:
-    """A master by scenario name: jacobi, gauss_seidel, aitken, iqn_ils, simple_jacobi."""
+                observe: dict[str, list[str]] | None = None, added_mass: AddedMassForce | None = None,
+                parameters: dict[str, dict[str, float]] | None = None) -> Master:
+    """A master by scenario name: jacobi, gauss_seidel, aitken, iqn_ils, simple_jacobi; ``parameters``: values
+    set in every initialisation (e.g. A_inf = 0 in the multibody FMU for added-mass mode b)."""
     if kind in ("aitken", "iqn_ils"):
         return IterativeMaster(components, connections, observe=observe, settings=settings,
-                               added_mass=added_mass, solver=kind)
+                               added_mass=added_mass, solver=kind, parameters=parameters)
     if kind == "simple_jacobi":
-        return SimpleJacobiMaster(components, connections, observe=observe, settings=settings)
+        return SimpleJacobiMaster(components, connections, observe=observe, settings=settings, parameters=parameters)
     if kind not in MASTERS:
         raise ValueError(f"unknown master {kind!r}")
-    return MASTERS[kind](components, connections, observe=observe, settings=settings, added_mass=added_mass)
+    return MASTERS[kind](components, connections, observe=observe, settings=settings, added_mass=added_mass,
+                         parameters=parameters)

@@ -22,11 +22,12 @@ A-stable for the linear model, whatever the ratio of A_inf to mass, since nothin
 from __future__ import annotations
 
 import copy
-import pickle
 
 import numpy as np
 
-from .errors import MasterError
+from fmu_base import state_codec
+
+from .errors import MasterError, WecCosimError
 from .masters import FixedStepController, Master
 from .scene import HYDRO, MBD, Scene
 
@@ -138,14 +139,24 @@ class MonolithicMaster:
 
     # ------------------------------------------------------------------ checkpoints
     def checkpoint(self) -> dict:
-        return {"states": {"monolithic": pickle.dumps((self.system, self.hydro), protocol=pickle.HIGHEST_PROTOCOL)},
+        state = state_codec.encode({"system": self.system, "hydro": self.hydro})
+        return {"states": {"monolithic": state},
                 "master": {"time": self.time, "force": self.force.copy(),
-                           "outputs": copy.deepcopy(self.outputs)}}
+                           "outputs": copy.deepcopy(self.outputs),
+                           # Newton matrices measured at the first step of each size: measured again at
+                           # another state they differ in the last bits, and so would a resumed run
+                           "newton": [[h, m.copy()] for h, m in self._newton.items()]}}
 
     def restore(self, checkpoint: dict) -> None:
-        self.system, self.hydro = pickle.loads(checkpoint["states"]["monolithic"])
+        template = copy.deepcopy({"system": self.system, "hydro": self.hydro})
+        try:
+            state = state_codec.decode(checkpoint["states"]["monolithic"], template)
+            self.system, self.hydro = state["system"], state["hydro"]
+        except (state_codec.StateFormatError, KeyError, TypeError) as exc:
+            raise WecCosimError(f"monolithic state in the checkpoint cannot be used: {exc}") from None
         m = checkpoint["master"]
         self.time, self.force, self.outputs = m["time"], m["force"].copy(), copy.deepcopy(m["outputs"])
+        self._newton = {float(h): np.array(matrix, dtype=float) for h, matrix in m.get("newton", [])}
 
     def terminate(self) -> None:
         pass

@@ -1,4 +1,5 @@
-"""``wec-cosim plot``: PNG figures of a results file (time series) or of a RAO file (``wec-cosim rao``)."""
+"""``wec-cosim plot``: PNG figures of a results file (time series), a RAO or steady-state file, or a sweep file
+(matrices, drawn by :mod:`sweeps.plotting`)."""
 
 from __future__ import annotations
 
@@ -31,14 +32,27 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if f.attrs.get("format") == "wec-cosim sweep":
+                from sweeps.plotting import plot_sweep
+
+                return [plot_sweep(f, out / f"{path.stem}_matrix.png")]
+            if "parameter" in f.attrs and "values" in f:
+                raise WecCosimError(f"plot: {path} is a sweep file of an earlier version (values x periods); run "
+                                    "`wec-cosim sweep` again for a file with matrices that plot draws")
             if "omega" in f:
-                return [plot_rao(f, out / f"{path.stem}_rao.png")]
+                figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
+                if "heading_sweep" in f:
+                    figures.append(plot_heading_sweep(f, out / f"{path.stem}_headings.png"))
+                return figures
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
                 return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
+    except (KeyError, ValueError, IndexError) as exc:
+        raise WecCosimError(f"plot: {path} lacks what its figure needs ({type(exc).__name__}: {exc}); is it a "
+                            "complete wec-cosim file?") from None
     raise WecCosimError(f"plot: {path} is neither a results file (/time), a RAO file (/omega) nor a steady-state "
                         "file (/periods)")
 
@@ -48,10 +62,11 @@ def _active(d: np.ndarray) -> list[int]:
 
 
 def plot_time_series(f: h5py.File, target: Path) -> Path:
-    """Displacements, hydrodynamic forces, PTO power and wave elevation against time."""
+    """Displacements, hydrodynamic forces, PTO power, wave elevation and mooring-line tensions against time."""
     plt = _pyplot()
     t = f["time"][()]
-    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+    lines = list(f.get("forces", {}))
+    fig, axes = plt.subplots(4 + bool(lines), 1, figsize=(10, 11 + 2.5 * bool(lines)), sharex=True)
     for name in f.get("bodies", {}):
         d = f[f"bodies/{name}/displacement"][()]
         for j in _active(d):
@@ -60,14 +75,38 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
             force = f[f"bodies/{name}/hydro_force"][()]
             for j in _active(force):
                 axes[1].plot(t, force[:, j], label=f"{name} {DOFS[j]}")
+    means, where = mean_powers_of(f)
     for name in f.get("ptos", {}):
         p = f[f"ptos/{name}/power"][()]
-        axes[2].plot(t, p / 1e3, label=f"{name} (mean {np.mean(p) / 1e3:.3g} kW)")
+        mean = f", mean {means[name] / 1e3:.4g} kW" if name in means else ""
+        axes[2].plot(t, p / 1e3, label=f"{name}{mean}")
+    if means:
+        axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
+    for name in lines:
+        axes[4].plot(t, np.linalg.norm(f[f"forces/{name}/force"][()], axis=1) / 1e3, label=name)
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
-    return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)"),
-                 "time (s)", target)
+    labels = ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)")
+    return _save(plt, fig, axes, labels + (("fairlead tension (kN)",) if lines else ()), "time (s)", target)
+
+
+def mean_powers_of(f: h5py.File) -> tuple[dict[str, float], str]:
+    """The PTOs' mean power over the run summary's window (:func:`analysis.mean_pto_powers`), from the
+    scenario stored in the file; none if the file holds no readable scenario."""
+    import tomllib
+
+    from . import schema
+    from .analysis import mean_pto_powers
+    from .errors import ScenarioError
+    from .scenario import Scenario
+
+    try:
+        text = f.attrs["scenario"]
+        scenario = schema.load(Scenario, tomllib.loads(text if isinstance(text, str) else text.decode()), f.filename)
+        return mean_pto_powers(scenario, f)
+    except (KeyError, ValueError, TypeError, ScenarioError, tomllib.TOMLDecodeError):
+        return {}, ""
 
 
 def _save(plt, fig, axes, ylabels: tuple[str, ...], xlabel: str, target: Path) -> Path:  # noqa: ANN001
@@ -98,6 +137,44 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
         axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
     return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
                  "wave frequency (rad/s)", target)
+
+
+def plot_heading_sweep(f: h5py.File, target: Path) -> Path:
+    """One column per heading of a RAO file's heading sweep: joint coordinate RAOs (deg or m per m of wave
+    amplitude), every body's heave RAO, and the mean PTO power per m^2 of wave amplitude."""
+    plt = _pyplot()
+    omega = f["omega"][()]
+    g = f["heading_sweep"]
+    headings = g["headings_deg"][()]
+    panels = [p for p in ("joints", "bodies", "ptos") if p in g]
+    fig, axes = plt.subplots(len(panels), len(headings), figsize=(4.2 * len(headings), 3.3 * len(panels) + 0.5),
+                             sharex=True, sharey="row", squeeze=False)
+    for k, heading in enumerate(headings):
+        for row, panel in enumerate(panels):
+            ax = axes[row, k]
+            for name in g[panel]:
+                if panel == "joints":
+                    ds = g[f"joints/{name}/rao"]
+                    for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
+                        values = np.abs(ds[k, :, i])
+                        rotation = "angle" in coordinate or "rotation" in coordinate
+                        ax.plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
+                elif panel == "bodies":
+                    ax.plot(omega, np.abs(g[f"bodies/{name}/rao"][k, :, 2]), label=f"{name} heave")
+                else:
+                    ax.plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+            ax.grid(True, alpha=0.3)
+        axes[0, k].set_title(f"heading {heading:g} deg")
+        axes[-1, k].set_xlabel("wave frequency (rad/s)")
+    labels = {"joints": "|joint RAO| (deg/m, m/m)", "bodies": "|heave RAO| (m/m)", "ptos": "mean power (kW per m^2)"}
+    for row, panel in enumerate(panels):
+        axes[row, 0].set_ylabel(labels[panel])
+        if axes[row, -1].get_legend_handles_labels()[0]:
+            axes[row, -1].legend(loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target
 
 
 def plot_steady(f: h5py.File, target: Path) -> Path:

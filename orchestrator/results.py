@@ -15,7 +15,9 @@ Layout (every dataset has a first axis of N samples; see ``docs/results.md``):
 Crash safety: datasets are chunked and extendable; rows are buffered in memory and appended at
 least every ``flush_seconds`` of wall time, the file being in HDF5's single-writer/multiple-reader
 (SWMR) mode, which keeps it consistent on disk at every moment. A killed run leaves a file that
-opens and holds every row up to the last flush.
+opens and holds every row up to the last flush. A kill during a flush can leave some series
+one flush longer than others (each dataset's new size becomes visible on its own):
+:func:`read_results` returns the rows present in every series.
 """
 
 from __future__ import annotations
@@ -90,8 +92,30 @@ class ResultsWriter:
         self.written = n1
 
     def flush(self) -> None:
-        """Append the buffered rows to the file and flush it to disk."""
+        """Append the buffered rows to the file and flush it to disk (a refused write is an ``OSError``)."""
+        try:
+            self._flush()
+        except RuntimeError as exc:  # h5py reports a failed write (disk full, file-size limit) this way
+            raise write_error(exc, self.path) from None
+
+    def _room(self, nbytes: int) -> None:
+        """Refuse a write that the disk or the file-size limit would cut half-way: HDF5 cannot close a file
+        after a failed write (and its library may crash at exit), so stop while the file is still whole."""
+        import errno
+        import resource
+        import shutil
+
+        need = 2 * nbytes + 256 * 1024  # data, chunk and metadata overhead, the final attributes
+        size = self.path.stat().st_size if self.path.exists() else 0
+        limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+        if limit != resource.RLIM_INFINITY and size + need > limit:
+            raise OSError(errno.EFBIG, f"file size limit of {limit} bytes reached", str(self.path))
+        if shutil.disk_usage(self.path.parent).free < need:
+            raise OSError(errno.ENOSPC, "no space left on the device", str(self.path))
+
+    def _flush(self) -> None:
         if self.rows:
+            self._room(sum(b[: self.rows].nbytes for b in self.buffers.values()))
             n0, n1 = self.written, self.written + self.rows
             for name, ds in self.datasets.items():
                 ds.resize(n1, axis=0)
@@ -115,14 +139,57 @@ class ResultsWriter:
                 f.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
 
 
+    def fail(self, status: str, wall_time: float | None = None, attrs: dict[str, Any] | None = None) -> bool:
+        """After a write error (disk full): drop the unwritten rows, close, record ``status`` if the file
+        system still allows it. Returns whether the status was recorded; never raises."""
+        self.rows = 0
+        try:
+            if self.file.id.valid:
+                self.file.close()
+        except Exception:  # noqa: BLE001 - the file system refused; the rows on disk stay readable
+            pass
+        try:
+            self.close(status=status, wall_time=wall_time, attrs=attrs)
+            return True
+        except Exception:  # noqa: BLE001
+            try:
+                with h5py.File(self.path, "a") as f:
+                    f.attrs["status"] = status
+                return True
+            except Exception:  # noqa: BLE001
+                return False
+
+
+def write_error(exc: BaseException, path: Path) -> OSError:
+    """An ``OSError`` with the operating system's reason from an HDF5 write failure's long message."""
+    import errno
+    import re
+
+    text = str(exc)
+    code = re.search(r"errno = (\d+)", text)
+    reason = re.search(r"error message = '([^']*)'", text)
+    number = int(code.group(1)) if code else errno.EIO
+    return OSError(number, reason.group(1) if reason else text.split("(")[0].strip(), str(path))
+
+
 def read_results(path: str | Path) -> dict[str, Any]:
-    """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded)."""
+    """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded).
+
+    The time series (the extendable datasets) are cut to the rows every one of them holds: a run killed
+    during a flush leaves the later series one flush short (module docstring)."""
     out: dict[str, Any] = {}
+    series: list[str] = []
     with h5py.File(path, "r", swmr=True) as f:
         def visit(name: str, obj: Any) -> None:
             if isinstance(obj, h5py.Dataset):
                 out[name] = obj[()]
+                if obj.maxshape and obj.maxshape[0] is None:
+                    series.append(name)
         f.visititems(visit)
+        if series:
+            rows = min(len(out[name]) for name in series)
+            for name in series:
+                out[name] = out[name][:rows]
         attrs = {}
         for k, v in f.attrs.items():
             if isinstance(v, str) and v[:1] in "[{":

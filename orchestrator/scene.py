@@ -18,6 +18,7 @@ from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_
 from hydro_fmu.bemio import read_bemio
 from hydro_fmu.drag import ViscousCoefficients
 from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
+from hydro_fmu.linearisation import CouplingPattern, coupling_pattern
 from hydro_fmu.meshes import SurfaceMesh, write_meshes
 from hydro_fmu.model import ForceSwitches, HydroOptions
 from hydro_fmu.sea import Sea, SeaSpec, build_sea
@@ -27,6 +28,7 @@ from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
 
 from .errors import ScenarioError
+from .progress import BemProgress
 from .scenario import DOFS, BodySection, Scenario
 
 HYDRO = "hydro"
@@ -55,7 +57,8 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid, rotation_deg=tuple(g.rotation_deg))
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)),
+                                dry_segments=tuple(g.dry_segments), sides=g.sides)
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -67,8 +70,12 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
     return bodies, settings
 
 
-def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tuple[HydroDatabase, Path]:
-    """The scenario's database (file named in the scenario, or Capytaine through the cache)."""
+def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
+                  progress: bool = False) -> tuple[HydroDatabase, Path]:
+    """The scenario's database (file named in the scenario, or Capytaine through the cache).
+
+    A Capytaine solve is announced in ``log`` and, with ``progress``, shown frequency by frequency
+    on standard error (:class:`BemProgress`)."""
     if not scenario.hydro_bodies:
         raise ScenarioError(f"{scenario.file}: no body has hydrodynamics")
     if scenario.hydro.database:
@@ -77,10 +84,15 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print) -> tu
     else:
         bodies, settings = bem_inputs(scenario)
         cache = scenario.resolve(scenario.hydro.cache_dir)
-        hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh,
-                                              log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        shown = BemProgress(len(settings.headings_deg), log=log, enabled=progress)
+        try:
+            hdb, path, computed = cached_database(bodies, settings, cache, refresh=refresh, progress=shown,
+                                                  log=(lambda m: log(f"warning: {m}")) if log is not None else None)
+        finally:
+            shown.close()
         if log is not None:
-            log(("computed" if computed else "cached") + f" hydrodynamic database {path}")
+            log(f"computed hydrodynamic database {path} in {shown.elapsed:.0f} s" if computed
+                else f"cached hydrodynamic database {path}")
     sub = _match_bodies(scenario, hdb)
     _check_coefficients(scenario, sub)
     if scenario.hydro.added_mass_inf == "ogilvie":
@@ -277,6 +289,23 @@ class Scene:
         return system
 
     # ------------------------------------------------------------------ FMU specifications
+    def coupling_pattern(self) -> CouplingPattern:
+        """Entries of the linearised force interface's dF_dx and dF_dv (hydro_fmu.linearisation)."""
+        h = self.scenario.hydro
+        idx = self.hydro_index()
+        viscous = self.viscous() if h.viscous else None
+        mask = None if viscous is None else (viscous.linear != 0) | (viscous.quadratic != 0)
+        return coupling_pattern(
+            self.hdb, idx, idx // 6, hydrostatics=h.hydrostatics and not h.nonlinear_hydrostatics,
+            nonlinear_position=(h.nonlinear_hydrostatics and h.hydrostatics) or (h.nonlinear_froude_krylov
+                                                                                 and h.excitation),
+            radiation=h.radiation, viscous=mask)
+
+    def experiment(self) -> dict:
+        """The FMUs' DefaultExperiment: the scenario's duration and macro step."""
+        sim = self.scenario.simulation
+        return {"start": 0.0, "stop": sim.duration, "step": sim.step}
+
     def hydro_data_files(self, folder: Path) -> dict[str, Path]:
         """Data files the hydro FMU needs besides its database, written to or found from ``folder``:
         resource name -> file (imported wave data, hull meshes for the nonlinear options)."""
@@ -318,6 +347,8 @@ class Scene:
                                                      "quadratic": viscous.quadratic.tolist()},
             "switches": {"excitation": h.excitation, "radiation": h.radiation, "hydrostatics": h.hydrostatics,
                          "viscous": h.viscous},
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def static_load(self, b: BodySection) -> list[float]:
@@ -330,7 +361,33 @@ class Scene:
         moment = np.cross(np.asarray(hdb.cb[i]) - np.asarray(b.cg), force)
         return force.tolist() + moment.tolist()
 
-    def mbd_spec(self) -> dict:
+    def mbd_spec(self, *, dynamic_lines: bool = True) -> dict:
+        """The multibody FMU's specification; ``dynamic_lines=False`` gives MoorDyn lines as quasi-static
+        catenaries (the frequency-domain solvers' model). With ``multibody.static_equilibrium`` the bodies start
+        from the static equilibrium (their initial displacements added to it)."""
+        spec = self._mbd_spec_at_reference(dynamic_lines)
+        if self.scenario.multibody.static_equilibrium:
+            offsets = self.equilibrium().displacement
+            for b, offset in zip(spec["bodies"], offsets, strict=True):
+                b["x0"] = (np.asarray(b["x0"], float) + offset).tolist()
+        return spec
+
+    def equilibrium(self):
+        """The static equilibrium of the scene (:func:`orchestrator.equilibrium.scene_equilibrium`), computed once."""
+        if not hasattr(self, "_equilibrium"):
+            from .equilibrium import scene_equilibrium
+
+            self._equilibrium = scene_equilibrium(self)
+        return self._equilibrium
+
+    def linearisation_pose(self, model):
+        """Pose the frequency domain linearises about: the static equilibrium if the scene asks for it, else the
+        reference pose."""
+        return self.equilibrium().pose if self.scenario.multibody.static_equilibrium else model.reference
+
+    def _mbd_spec_at_reference(self, dynamic_lines: bool = False) -> dict:
+        """The specification at the reference pose (MoorDyn lines as quasi-static catenaries unless
+        ``dynamic_lines``)."""
         spec = self._linear_mbd_spec()
         s = self.scenario
         if s.formulation == "linear":
@@ -349,6 +406,8 @@ class Scene:
              "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
         kinds = {j.name: j.kind for j in s.joints}
         spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
+        if dynamic_lines and s.mooring_lines.model == "moordyn":
+            self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
         for p, out in zip(s.ptos, spec["ptos"], strict=True):
@@ -378,6 +437,19 @@ class Scene:
             d["damping"] = matrix(e.damping_matrix)
         return d
 
+    def _moordyn_spec(self, spec: dict) -> None:
+        """Mark the catenary lines for MoorDyn and add its solver options."""
+        s = self.scenario
+        m = s.mooring_lines
+        for e, d in zip(s.forces, spec["forces"], strict=True):
+            if e.kind == "catenary":
+                d.update(model="moordyn", diameter=e.diameter, segments=e.segments, drag_normal=e.drag_normal,
+                         drag_axial=e.drag_axial, added_mass_normal=e.added_mass_normal,
+                         added_mass_axial=e.added_mass_axial, internal_damping=e.internal_damping)
+        spec["moordyn"] = {"time_step": m.time_step, "scheme": m.scheme, "seabed_stiffness": m.seabed_stiffness,
+                           "seabed_damping": m.seabed_damping, "ic_time": m.ic_time, "ic_tolerance": m.ic_tolerance,
+                           "rho": s.environment.rho, "g": s.environment.g}
+
     @staticmethod
     def _driver_spec(d) -> dict:
         coordinate = ({"kind": "joint", "joint": d.joint, "index": 0} if d.joint
@@ -400,12 +472,13 @@ class Scene:
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
     def multibody_simulator(self, *, added_mass: bool = True):
-        """The nonlinear multibody model of the scene, assembled (for linearisation and tests)."""
+        """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
+        are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
         from mbd_fmu.spec import build_simulator
 
         idx = self.hydro_index()
         a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)] if added_mass else np.zeros((len(idx), len(idx)))
-        return build_simulator(self.mbd_spec(), a_inf)
+        return build_simulator(self.mbd_spec(dynamic_lines=False), a_inf)
 
     def _linear_mbd_spec(self) -> dict:
         s = self.scenario
@@ -423,6 +496,9 @@ class Scene:
                       "velocity_scale": p.velocity_scale} for p in s.ptos],
             "hydro_bodies": self.hydro_bodies,
             "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
+            "added_mass_inf": self.hdb.added_mass_inf[np.ix_(self.hydro_index(), self.hydro_index())].ravel().tolist(),
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def connections(self) -> list[Connection]:
@@ -435,6 +511,22 @@ class Scene:
             links.append(Connection(HYDRO, f"{b}.F[{i}]", MBD, f"{b}.F[{i}]"))
         return links
 
+    def linearised_connections(self) -> list[Connection]:
+        """The linearised force interface: MBD displacement and velocity -> hydro; hydro F0, F0_rate, dF_dx,
+        dF_dv -> the MBD inputs of the same names (what plain fixed-step hosts need, see docs/masters.md)."""
+        links = [link for link in self.connections() if link.source == MBD]
+        for b, d in self.hydro_coordinates:
+            for var in ("F0", "F0_rate"):
+                name = f"{b}.{var}[{d + 1}]"
+                links.append(Connection(HYDRO, name, MBD, name))
+        labels = [k + 1 for k in self.hydro_index()]
+        pattern = self.coupling_pattern()
+        for var, pairs in (("dF_dx", pattern.stiffness), ("dF_dv", pattern.damping)):
+            for i, j in pairs:
+                name = f"{var}[{labels[i]},{labels[j]}]"
+                links.append(Connection(HYDRO, name, MBD, name))
+        return links
+
     def parameter_links(self) -> list[Connection]:
         """Calculated parameters copied at initialisation: A_inf from the hydro FMU to the MBD FMU."""
         labels = [k + 1 for k in self.hydro_index()]
@@ -445,6 +537,28 @@ def _sorted_dofs(b: BodySection) -> list[str]:
     return sorted(b.dofs, key=DOFS.index)
 
 
-def load_scene(scenario: Scenario, *, refresh: bool = False, log=print) -> Scene:
-    hdb, path = load_database(scenario, refresh=refresh, log=log)
+def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:
+    """The scenario resolved against its database (computed if needed, see :func:`load_database`)."""
+    hdb, path = load_database(scenario, refresh=refresh, log=log, progress=progress)
+    check_wave_range(scenario, hdb, path)
     return Scene(scenario, hdb, path)
+
+
+def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
+    """Regular wave periods (waves, steady; each case of a sweep has its own) and an irregular sea's peak
+    inside the database's frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    w, f = scenario.waves, scenario.file
+    lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
+    periods = []
+    if w.kind == "regular":
+        periods.append(("waves.period", w.period))
+    periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
+    if w.kind == "irregular" and w.tp > 0:
+        periods.append(("waves.tp", w.tp))
+    for key, period in periods:
+        omega = 2 * np.pi / period
+        if not lo <= omega <= hi:
+            raise ScenarioError(
+                f"{f}: {key} = {period:g} s ({omega:.4g} rad/s) is outside the hydrodynamic database's frequency range "
+                f"{lo:.4g}..{hi:.4g} rad/s (periods {2 * np.pi / hi:.4g}..{2 * np.pi / lo:.4g} s, {path}); choose a "
+                "period in that range or extend hydro.omega")

@@ -89,6 +89,17 @@ def load(cls: type, data: Any, file: str, path: str = "") -> Any:
     return cls(**values)
 
 
+def convert_field(cls: type, name: str, value: Any, file: str, path: str) -> Any:
+    """``value`` converted and checked as field ``name`` of dataclass ``cls`` would be when loaded
+    (errors name ``file`` and the key ``path``)."""
+    f = {f.name: f for f in dataclasses.fields(cls)}[name]
+    converted = _convert(typing.get_type_hints(cls)[name], value, file, path, f)
+    problem = f.metadata.get("check") and f.metadata["check"](converted)
+    if problem:
+        raise ScenarioError(f"{file}: {path} {problem} (got {_show(value)})")
+    return converted
+
+
 def _convert(tp: Any, value: Any, file: str, path: str, f: dataclasses.Field | None) -> Any:
     origin = typing.get_origin(tp)
     args = typing.get_args(tp)
@@ -97,6 +108,10 @@ def _convert(tp: Any, value: Any, file: str, path: str, f: dataclasses.Field | N
         return _convert(inner[0], value, file, path, f)
     if dataclasses.is_dataclass(tp):
         return load(tp, value, file, path)
+    if origin is dict:  # a free-form table, checked by its owner
+        if not isinstance(value, dict):
+            raise ScenarioError(f"{file}: {path}: expected a table, got {_show(value)}")
+        return value
     if origin in (list, tuple):
         if not isinstance(value, list):
             raise ScenarioError(f"{file}: {path}: expected an array ({_describe(tp, f)}), got {_show(value)}")
@@ -149,7 +164,7 @@ def _describe(tp: Any, f: dataclasses.Field | None) -> str:
     origin, args = typing.get_origin(tp), typing.get_args(tp)
     if origin in (typing.Union, types.UnionType):
         return _describe([a for a in args if a is not type(None)][0], f)
-    if dataclasses.is_dataclass(tp):
+    if dataclasses.is_dataclass(tp) or origin is dict:
         return "table"
     if origin in (list, tuple):
         if origin is tuple and args and args[-1] is not Ellipsis:
@@ -162,7 +177,7 @@ def _describe(tp: Any, f: dataclasses.Field | None) -> str:
     return name
 
 
-def document(cls: type, title: str, path: str = "", array: bool = False) -> list[str]:
+def document(cls: type, title: str, path: str = "", array: bool = False, defaults: Any = None) -> list[str]:
     """Markdown reference of ``cls``: one table per section, nested sections after."""
     hints = typing.get_type_hints(cls)
     header = f"[[{path}]]" if array else (f"[{path}]" if path else "top level")
@@ -177,23 +192,27 @@ def document(cls: type, title: str, path: str = "", array: bool = False) -> list
             typing.Union, types.UnionType) else [tp]
         base = inner[0]
         if dataclasses.is_dataclass(base):
-            nested.append((base, _join(path, f.name), False))
+            default = f.default_factory() if f.default_factory is not MISSING else None
+            nested.append((base, _join(path, f.name), False, default))
             continue
         if typing.get_origin(base) is list and dataclasses.is_dataclass(typing.get_args(base)[0]):
-            nested.append((typing.get_args(base)[0], _join(path, f.name), True))
+            nested.append((typing.get_args(base)[0], _join(path, f.name), True, None))
             continue
         if f.default is not MISSING:
             default = _toml_value(f.default)
         elif f.default_factory is not MISSING:
             default = _toml_value(f.default_factory())
+        elif defaults is not None:  # a section with a default value: its fields have one too
+            default = _toml_value(getattr(defaults, f.name)) + " (section default)"
         else:
             default = "**required**"
         doc = f.metadata.get("doc", "").replace("|", "\\|").replace("\n", " ")
         kind = _describe(tp, f).replace("|", "\\|")  # choices are listed with '|', a table separator
         lines.append(f"| `{f.name}` | {kind} | {f.metadata.get('unit', '') or ''} | {default} | {doc} |")
     lines.append("")
-    for sub, sub_path, is_array in nested:
-        lines += document(sub, (sub.__doc__ or sub.__name__).strip().split("\n")[0].rstrip("."), sub_path, is_array)
+    for sub, sub_path, is_array, sub_defaults in nested:
+        lines += document(sub, (sub.__doc__ or sub.__name__).strip().split("\n")[0].rstrip("."), sub_path, is_array,
+                          sub_defaults)
     return lines
 
 
@@ -205,7 +224,9 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, str):
         return f'`"{value}"`' if value else '`""`'
     if isinstance(value, float) and math.isinf(value):
-        return "`inf`"
+        return "`inf`" if value > 0 else "`-inf`"
     if isinstance(value, (list, tuple)):
         return "`[" + ", ".join(_toml_value(v).strip("`") for v in value) + "]`"
+    if isinstance(value, dict):
+        return "`{" + ", ".join(f"{k} = {_toml_value(v).strip('`')}" for k, v in value.items()) + "}`"
     return f"`{value}`"

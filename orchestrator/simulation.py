@@ -7,6 +7,7 @@ import math
 import os
 import platform
 import time
+import typing
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -15,12 +16,14 @@ import h5py
 import numpy as np
 
 from . import frequency_domain
-from .analysis import harmonic_fit, steady_window, window_mean
+from .analysis import averaging_window, harmonic_fit, mean_pto_powers, window_mean
 from .checkpoints import checkpoint_path, read_checkpoint, write_checkpoint
 from .components import FmuComponent, InProcessComponent
 from .control.loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .errors import MasterError, WecCosimError
+from .input_checks import check_output
+from .interrupts import InterruptAtStep
 from .masters import EnergyStepController, FixedStepController, Master, MasterSettings, StepController, make_master
 from .monolithic import MonolithicMaster
 from .progress import ProgressBar
@@ -65,7 +68,7 @@ class Recorder:
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
         """Results path -> multibody FMU outputs for the nonlinear formulations: per joint its coordinates,
         rates and reaction (force on body 2 from body 1 and moment about the joint point, world frame),
-        the energy account and the constraint violation."""
+        each mooring line's fairlead force on its body, the energy account and the constraint violation."""
         s = scene.scenario
         if s.formulation == "linear":
             return {}
@@ -79,6 +82,9 @@ class Recorder:
                 out[f"joints/{j.name}/rate"] = [f"{j.name}.rate[{i + 1}]" for i in range(k)]
             out[f"joints/{j.name}/force"] = [f"{j.name}.force[{i + 1}]" for i in range(3)]
             out[f"joints/{j.name}/moment"] = [f"{j.name}.moment[{i + 1}]" for i in range(3)]
+        for e in s.forces:
+            if e.kind == "catenary":  # mooring lines: fairlead force on the body (world frame)
+                out[f"forces/{e.name}/force"] = [f"{e.name}.force[{i + 1}]" for i in range(3)]
         for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
             out[f"energy/{key}"] = [f"energy.{key}"]
         out["mbd/constraint_violation"] = ["mbd.constraint_violation"]
@@ -139,6 +145,9 @@ class RunResult:
     comparisons: list[Comparison] = field(default_factory=list)
     statistics: dict = field(default_factory=dict)
     radiation: dict = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
+    power_window: str = ""
 
     @property
     def real_time_factor(self) -> float:
@@ -175,35 +184,59 @@ class RunPlan:
                "versions": versions(), "settings": self.settings, "hydro_database": str(self.scene.hdb_file)}
         if self.control:
             out["control_manifest"] = self.control.manifest.to_json()
+        if scenario.multibody.static_equilibrium:
+            out["static_equilibrium"] = self.scene.equilibrium().as_dict()
         return out
 
 
-def master_settings(scenario: Scenario) -> MasterSettings:
+def master_settings(scenario: Scenario, scene: Scene | None = None) -> MasterSettings:
     sim = scenario.simulation
     return MasterSettings(extrapolation=sim.extrapolation, tolerance=sim.tolerance,
                           max_iterations=sim.max_iterations, relaxation=sim.relaxation, reuse=sim.iqn_reuse,
-                          divergence_limit=sim.divergence_limit)
+                          divergence_limit=sim.divergence_limit,
+                          energy_scale=energy_scale(scene) if scene is not None else 1.0)
 
 
-def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None) -> RunPlan:
-    """Load the scene, build the FMUs for the scenario's added-mass mode, make the master."""
+def energy_scale(scene: Scene) -> float:
+    """The scene's energy scale (J): its bodies' weight and static loads times a metre (at least 1 J)."""
+    spec = scene.mbd_spec()
+    g = float(np.linalg.norm(spec.get("gravity", (0.0, 0.0, 0.0)))) or 9.81
+    loads = sum(abs(float(b["mass"])) * g + float(np.linalg.norm(b.get("static_load", [0.0] * 6)[:3]))
+                for b in spec["bodies"])
+    return max(1.0, loads)
+
+
+def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scene: Scene | None = None,
+                progress: bool = False) -> RunPlan:
+    """Load the scene, build the FMUs for the scenario's added-mass mode, make the master (``progress``:
+    show the progress of a BEM solve, if the database must be computed)."""
     # A scene given is reused for its database only (the scenario may be a variant of its own).
-    scene = Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None else load_scene(scenario, log=log)
+    scene = (Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None
+             else load_scene(scenario, log=log, progress=progress))
+    if scenario.multibody.static_equilibrium and log is not None:
+        from .equilibrium import equilibrium_report
+
+        log(equilibrium_report(scene.equilibrium()))
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
-                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
+                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy"),
+                "overrides": list(scenario._overrides)}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
     else:
-        coupling = scene_coupling(scene, sim.added_mass)
+        coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
+        if not sim.resolve_feedthrough and sim.interface == "force" and log is not None:
+            log("warning: resolve_feedthrough = false with the force interface is what a plain FMI host does with "
+                "the force connected: first order, and unstable for light bodies (docs/hosts/README.md); "
+                "simulation.interface = 'linearised' is second order under the same host")
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
-        master = make_master(kind, components, coupling.connections, master_settings(scenario),
-                             observe, coupling.added_mass)
+        master = make_master(kind, components, coupling.connections, master_settings(scenario, scene),
+                             observe, coupling.added_mass, coupling.parameters)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
     if sim.adaptive.enabled:
@@ -232,22 +265,36 @@ def run_scenario(
     in_process: bool = False,
     log=print,
     progress: bool = True,
+    scene: Scene | None = None,
 ) -> RunResult:
-    """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
-    plan = prepare_run(scenario, in_process=in_process, log=log)
+    """Run the scenario's co-simulation, write the results file, compare with the exact answer.
+
+    ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
+    """
     sim = scenario.simulation
-    path = Path(output or sim.output or Path("results") / f"{scenario.name}.h5")
-    writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+    key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
+                                                                        f"{scenario.name!r})")
+    path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
+    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
+    try:
+        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+    except BaseException:
+        plan.master.terminate()
+        raise
     state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
     try:
         if plan.control:
+            c = scenario.control
+            if log is not None:
+                log(f"waiting up to {c.connect_timeout:g} s (control.connect_timeout) for a controller on run "
+                    f"{plan.control.settings.run_id!r} ...")
             plan.control.start()
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
         plan.radiation = radiation_report(plan)
-    except BaseException:
+    except BaseException as exc:
         plan.master.terminate()
         extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
-        writer.close(status="failed: initialisation", attrs=extra)
+        writer.close(status=f"failed: initialisation: {exc}", attrs=extra)
         raise
     return _execute(plan, writer, state, progress, observe_start=True)
 
@@ -269,29 +316,40 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     except (OSError, KeyError, ValueError) as exc:
         raise WecCosimError(f"{results} is not a wec-cosim results file that can be resumed ({exc})") from None
     saved = read_checkpoint(checkpoint_path(results))
-    scenario = parse_scenario(text, scenario_file)
+    from .overrides import apply_overrides
+
+    scenario = apply_overrides(parse_scenario(text, scenario_file), stored.get("overrides", []))
+    scenario.simulation.duration = stored.get("duration", scenario.simulation.duration)  # `run --duration`
     if scenario.control.mode != "off":
         raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
                             "controller's own state is not in the checkpoint); run it again")
-    plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log)
+    plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log, progress=progress)
     sim = scenario.simulation
     old = read_results(results)
     rows = saved["rows"]
+    missing = [name for name in plan.recorder.series if name not in old or len(old[name]) < rows]
+    if missing:
+        plan.master.terminate()
+        raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
+                            "run the simulation again")
+    # Restore first: a checkpoint that cannot be used leaves the results file as it was.
+    try:
+        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
+        plan.radiation = radiation_report(plan)
+        plan.master.restore(saved["checkpoint"])
+        plan.controller.set_state(saved["controller"])
+    except BaseException as exc:
+        plan.master.terminate()
+        if isinstance(exc, (MasterError, WecCosimError)):
+            raise WecCosimError(f"{checkpoint_path(results)}: the checkpoint could not be restored: {exc}; "
+                                f"{results} is unchanged") from None
+        raise
     writer = ResultsWriter(results.with_name(results.name + ".resume.part"), plan.recorder.series, {
         k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds)
     writer.append_block({name: old[name][:rows] for name in plan.recorder.series})
     writer.flush()
     os.replace(writer.path, results)
     writer.path = results
-    try:
-        plan.master.initialize(0.0, sim.duration, plan.parameter_links)
-        plan.radiation = radiation_report(plan)
-        plan.master.restore(saved["checkpoint"])
-        plan.controller.set_state(saved["controller"])
-    except BaseException:
-        plan.master.terminate()
-        writer.close(status="failed: could not restore the checkpoint")
-        raise
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
@@ -309,7 +367,10 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
 
     control = plan.control
 
+    interrupt = InterruptAtStep()
+
     def observe(t: float, outputs: dict[str, np.ndarray]) -> None:
+        interrupt.check()  # Ctrl-C: stop here, between steps (not inside an FMU's step)
         k = state.steps
         if control:
             control.on_point(t, outputs)
@@ -326,7 +387,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
 
     start = time.perf_counter()
     try:
-        master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
+        with interrupt:
+            master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
         raise MasterError(f"{exc}{_divergence_advice(plan)} (results up to t = {master.time:g} s are in "
@@ -335,17 +397,63 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         writer.close(status="interrupted", wall_time=time.perf_counter() - start,
                      attrs=_final_attrs(plan, "failed"))
         raise
+    except OSError as exc:  # the results or checkpoint file could not be written (disk full, file-size limit)
+        _write_failure(plan, writer, exc, start)
     finally:
         master.terminate()
         bar.close()
     wall = time.perf_counter() - start
     attrs = _final_attrs(plan, "finished")
-    writer.close(status="completed", wall_time=wall, attrs=attrs)
+    try:
+        writer.close(status="completed", wall_time=wall, attrs=attrs)
+    except OSError as exc:  # the last rows could not be flushed
+        _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
                        radiation=plan.radiation)
     if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
-        result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
+        needed = scenario.ramp_time + sim.steady_periods * scenario.waves.period
+        if sim.duration >= needed:
+            result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
+        else:
+            result.notes.append(
+                f"no comparison with the exact steady state: the run ({sim.duration:g} s) is shorter than the ramp "
+                f"and simulation.steady_periods = {sim.steady_periods:g} wave periods ({needed:g} s)")
+    if not result.comparisons and scenario.ptos:
+        with h5py.File(writer.path, "r", swmr=True) as f:
+            result.mean_power, result.power_window = mean_pto_powers(scenario, f)
+    if control:
+        result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
     return result
+
+
+def control_notes(stats: dict | None, fallback: str) -> list[str]:
+    """Summary lines for the controller's faults, fallbacks and refused controllers."""
+    if not stats:
+        return []
+    faults = {k: v for k, v in stats.get("faults", {}).items() if v}
+    periods, fell = stats.get("periods", 0), stats.get("fallback_periods", 0)
+    out = [f"controller: {periods - fell} of {periods} control periods commanded by the controller"
+           + (f", {fell} on the fallback {fallback!r}" if fell else "")
+           + (" (faults: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in faults.items()) + ")" if faults
+              else "")]
+    if stats.get("refused_controllers"):
+        out.append(f"controller: {stats['refused_controllers']} other controller(s) refused on this run id "
+                   f"({stats.get('refused_commands', 0)} of their commands ignored)")
+    return out
+
+
+def _write_failure(plan: RunPlan, writer: ResultsWriter, exc: OSError, start: float) -> typing.NoReturn:
+    """Record ``failed`` if the file system still allows it and raise one clear error (rows on disk kept)."""
+    attrs = {"statistics": _run_statistics(plan), "radiation_model": plan.radiation}
+    if plan.control and plan.control.bridge.session is not None:
+        attrs["control_statistics"] = plan.control.close("failed")
+    recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
+                           wall_time=time.perf_counter() - start, attrs=attrs)
+    raise WecCosimError(
+        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; the {writer.written} "
+        f"rows written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
+        "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
+        "again") from None
 
 
 def _final_attrs(plan: RunPlan, state: str) -> dict:
@@ -375,7 +483,8 @@ def radiation_report(plan: RunPlan) -> dict:
 
 def _run_statistics(plan: RunPlan) -> dict:
     sizes = plan.controller.sizes
-    out = {"macro_steps": plan.controller.steps, "master": plan.master.name}
+    out = {"macro_steps": plan.controller.steps, "master": plan.master.name,
+           "mooring_lines": plan.scene.scenario.mooring_lines.model}
     if sizes:
         out.update(smallest_step=min(sizes), largest_step=max(sizes), mean_step=float(np.mean(sizes)))
     its = getattr(plan.master, "iterations", [])
@@ -413,7 +522,7 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
     amplitude = w.height / 2
     fd = frequency_domain.solve(scene, np.array([omega]))
     t = data["time"]
-    mask = steady_window(t, w.period, s.simulation.steady_periods)
+    mask, _ = averaging_window(s, t)  # the window of the figures' mean power too
     # Exact answers are referred to the wave's own phase at the origin.
     wave_phase = np.exp(1j * math.radians(w.phase_deg))
     out = []
@@ -424,6 +533,17 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
             y = data[f"bodies/{b.name}/displacement"][:, j]
             measured, _ = harmonic_fit(t[mask], y[mask], omega)
             out.append(Comparison(f"{b.name} {d}", "m" if j < 3 else "rad", measured, complex(rao[j])))
+    from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+    for j in s.joints:
+        if f"joints/{j.name}/coordinate" not in data:
+            continue
+        series = np.asarray(data[f"joints/{j.name}/coordinate"]).reshape(len(t), -1)
+        for i, (name, (unit, _)) in enumerate(zip(fd.joint_coordinates[j.name], JOINT_COORDINATE_UNITS[j.kind],
+                                                  strict=True)):
+            measured, _ = harmonic_fit(t[mask], series[mask, i], omega)
+            exact = complex(fd.joint_rao[j.name][0, i] * amplitude * wave_phase)
+            out.append(Comparison(f"{j.name} {name}", unit, measured, exact))
     for p in s.ptos:
         measured = window_mean(t, data[f"ptos/{p.name}/power"], mask)
         out.append(Comparison(f"{p.name} mean power", "W", measured, float(fd.pto_power[p.name][0] * amplitude**2)))
@@ -433,7 +553,9 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
-        lines.append("steady state against the exact frequency-domain solution:")
+        lines.append("steady state against the exact frequency-domain solution"
+                     + (" (mooring lines linearised quasi-statically: MoorDyn's line dynamics are not in it):"
+                        if result.statistics.get("mooring_lines") == "moordyn" else ":"))
         lines.append(f"  {'quantity':<24}{'co-simulation':>16}{'exact':>16}{'error':>10}{'phase err':>11}")
         for c in result.comparisons:
             phase = f"{c.phase_error_deg:+9.2f} deg" if not math.isnan(c.phase_error_deg) else ""
@@ -454,6 +576,10 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
+    if result.mean_power:
+        lines.append(f"mean PTO power ({result.power_window}): "
+                     + ", ".join(f"{name} {p / 1e3:.4g} kW" for name, p in result.mean_power.items()))
+    lines += result.notes
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")

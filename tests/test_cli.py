@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from orchestrator import frequency_domain
+from orchestrator.analysis import averaging_window
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 
@@ -58,6 +59,36 @@ def test_results_file_layout(run_output) -> None:
         eta = f["wave/elevation"][()]
         t = f["time"][()]
         np.testing.assert_allclose(eta[t > 20], 0.5 * np.cos(2 * np.pi / 5.6 * t[t > 20]), atol=1e-12)
+
+
+def test_plot_mean_power_uses_the_summarys_window(run_output, tmp_path) -> None:
+    """The figure's mean PTO power is the summary's (the last steady_periods wave periods, one function for
+    both), not the mean over the whole run, which includes the 20 s ramp from rest."""
+    from orchestrator.plotting import mean_powers_of, plot_file
+
+    proc, out = run_output
+    line = next(x for x in proc.stdout.splitlines() if "pto mean power" in x)
+    printed = float(line.split()[3])  # quantity (3 words), co-simulation value (%.5g), unit, exact, ...
+    scenario = load_scenario(SCENARIOS / "cylinder_regular.toml")
+    with h5py.File(out) as f:
+        means, where = mean_powers_of(f)
+        t, power = f["time"][()], f["ptos/pto/power"][()]
+    assert means["pto"] == pytest.approx(printed, rel=1e-4)
+    assert where.startswith("last 10 wave periods")
+    mask, _ = averaging_window(scenario, t)
+    assert t[mask][0] == pytest.approx(t[-1] - 10 * 5.6, abs=0.1) and t[mask][-1] == t[-1]
+    assert abs(np.mean(power) / means["pto"] - 1) > 0.05  # what the figure showed before: the ramp included
+    assert [p.name for p in plot_file(out, tmp_path)] == ["cyl_timeseries.png"]
+
+
+def test_averaging_window_after_the_ramp_when_there_is_no_wave_period() -> None:
+    scenario = load_scenario(SCENARIOS / "cylinder_irregular.toml")
+    t = np.arange(0.0, 2 * scenario.ramp_time, 0.5)
+    mask, where = averaging_window(scenario, t)
+    assert where == f"after the {scenario.ramp_time:g} s wave ramp"
+    np.testing.assert_array_equal(mask, t >= scenario.ramp_time)
+    mask, where = averaging_window(scenario, t[t < scenario.ramp_time / 2])
+    assert mask.all() and where == "whole run (shorter than the wave ramp)"
 
 
 def test_rao_command_matches_frequency_domain(tmp_path) -> None:

@@ -32,3 +32,84 @@ def test_disabled_bar_is_silent() -> None:
     bar.update(0.5)
     bar.close()
     assert stream.getvalue() == ""
+
+
+# ----------------------------------------------------------------------------- BEM solves
+def tiny_body():
+    from hydro_fmu.bem import BemBody, BodyGeometry
+
+    return BemBody("can", BodyGeometry("vertical_cylinder", radius=1.0, draft=1.0, panel_size=0.5), (0.0, 0.0, -0.5))
+
+
+def test_bem_solve_shows_each_frequency_and_equals_capytaines_own_fill_dataset(tmp_path) -> None:
+    """A tiny Capytaine problem (3 frequencies): one log line when the solve starts, then the bar names every
+    frequency and the infinite one, and is erased. Solved one frequency at a time, the coefficients are
+    bit for bit those of Capytaine's fill_dataset over the whole grid; a cache hit shows nothing."""
+    import capytaine as cpt
+    import numpy as np
+    import xarray as xr
+
+    from hydro_fmu.bem import BemSettings, _floating_body, cached_database
+    from orchestrator.progress import BemProgress
+
+    stream, log = io.StringIO(), []
+    settings = BemSettings(omega=(0.5, 1.0, 2.0), headings_deg=(0.0,))
+    shown = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0)
+    hdb, _, computed = cached_database([tiny_body()], settings, tmp_path, progress=shown)
+    shown.close()
+    assert computed
+    assert log == ["computing the hydrodynamic database with Capytaine: 3 frequencies x 1 heading(s) and the "
+                   "infinite frequency (this can take minutes) ..."]
+    text = stream.getvalue()
+    for k, where in enumerate(("omega = 0.5 rad/s", "omega = 1 rad/s", "omega = 2 rad/s", "infinite frequency"), 1):
+        assert f"{25.0 * k:5.1f} %  BEM frequency {k} of 4 ({where})" in text
+    assert text.endswith("\r") and not shown.bar.shown
+
+    body = _floating_body(tiny_body())
+    dofs = list(body.dofs)
+    common = {"water_depth": [np.inf], "rho": [settings.rho], "g": [settings.g], "radiating_dof": dofs,
+              "influenced_dof": dofs}
+    own = cpt.BEMSolver().fill_dataset(xr.Dataset(coords={"omega": list(settings.omega), "wave_direction": [0.0],
+                                                          **common}), body, progress_bar=False)
+    np.testing.assert_array_equal(hdb.added_mass, own["added_mass"].transpose("omega", "influenced_dof",
+                                                                              "radiating_dof").values)
+    # (the BEMIO file keeps the excitation divided by rho g: equal to the last bits)
+    np.testing.assert_allclose(hdb.excitation[0], np.conj(own["excitation_force"].transpose(
+        "wave_direction", "omega", "influenced_dof").values[0]), rtol=1e-14, atol=0)
+
+    again = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0)
+    _, _, computed = cached_database([tiny_body()], settings, tmp_path, progress=again)
+    assert not computed and again.bar is None and len(log) == 1
+
+
+def test_hydro_command_announces_the_solve_and_its_time(tmp_path, capsys) -> None:
+    from orchestrator.cli import main
+
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text("""
+name = "tiny"
+[simulation]
+duration = 10.0
+step = 0.1
+[waves]
+kind = "regular"
+height = 1.0
+period = 6.0
+[hydro]
+omega = { start = 0.5, stop = 1.5, step = 0.5 }
+cache_dir = "cache"
+[[bodies]]
+name = "can"
+cg = [0.0, 0.0, -0.5]
+dofs = ["heave"]
+[bodies.geometry]
+shape = "vertical_cylinder"
+radius = 1.0
+draft = 1.0
+panel_size = 0.5
+""")
+    assert main(["hydro", str(scenario)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("computing the hydrodynamic database with Capytaine: 3 frequencies x 1 heading(s)")
+    assert out[1].startswith(f"computed hydrodynamic database {tmp_path / 'cache'}") and out[1].endswith(" s")
+    assert out[2].endswith("3 frequencies 0.5..1.5 rad/s, 1 headings (" + out[2].split("(", 1)[1])

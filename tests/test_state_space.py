@@ -163,3 +163,26 @@ def test_state_space_co_simulation_matches_the_exact_decay(tmp_path) -> None:
     report = data["attrs"]["radiation_model"]
     assert report["method"] == "state_space" and report["order"] >= 2
     assert 0 < report["fit_error"] <= 0.005
+
+
+def test_fit_per_body_pair_grows_with_the_couplings_only() -> None:
+    """Bodies fitted per ordered pair: three copies of the two-mode body, the first two coupled through a
+    one-mode kernel, the third far away (no coupling). The assembled fit meets the tolerance entry-wise, has
+    no states for the uncoupled pairs and its order is the sum of the blocks' minimal orders: 3 x 8 for the
+    bodies, 2 x 2 for the coupling (one damped mode of rank 1 in each direction)."""
+    t = np.arange(0.0, 30.0, 0.05)
+    body = damped_kernel(t)
+    coupling = 0.3 * np.exp(-0.6 * t) * np.cos(1.7 * t)
+    kernel = np.zeros((len(t), 6, 6))
+    for b in range(3):
+        kernel[:, 2 * b:2 * b + 2, 2 * b:2 * b + 2] = body
+    kernel[:, 0, 2] = kernel[:, 2, 0] = coupling
+    groups = [np.array([0, 1]), np.array([2, 3]), np.array([4, 5])]
+    fit = fit_state_space(t, kernel, omega_max=6.0, tolerance=1e-6, groups=groups)
+    assert fit.order == 3 * 8 + 2 * 2
+    assert fit.kernel_error <= 1e-6
+    fitted = fit.impulse_response(t)
+    scale = np.max(np.abs(kernel))
+    assert np.max(np.abs(fitted - kernel)) < 1e-4 * scale
+    assert np.max(np.abs(fitted[:, 4:, :4])) < 1e-12 and np.max(np.abs(fitted[:, :4, 4:])) < 1e-12
+    assert fit.max_real_pole < 0

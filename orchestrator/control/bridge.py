@@ -21,6 +21,7 @@ results so far kept). Every fault is counted; the counts go to the results file.
 
 from __future__ import annotations
 
+import json
 import math
 import queue
 import threading
@@ -75,13 +76,16 @@ class ControlStatistics:
     latencies: list[float] = field(default_factory=list)
     missed_deadlines: int = 0
     paced_steps: int = 0
+    refused_controllers: int = 0
+    refused_commands: int = 0
 
     def summary(self) -> dict:
         lat = np.array(self.latencies)
         stats = {"median": float(np.median(lat)), "p99": float(np.percentile(lat, 99)),
                  "max": float(lat.max()), "count": int(lat.size)} if lat.size else {"count": 0}
         return {"faults": self.faults, "periods": self.periods, "fallback_periods": self.fallback_periods,
-                "latency_s": stats, "missed_deadlines": self.missed_deadlines, "paced_steps": self.paced_steps}
+                "latency_s": stats, "missed_deadlines": self.missed_deadlines, "paced_steps": self.paced_steps,
+                "refused_controllers": self.refused_controllers, "refused_commands": self.refused_commands}
 
 
 class ControlBridge:
@@ -111,6 +115,7 @@ class ControlBridge:
         self._latest: protocol.Frame | None = None
         self._latest_arrival = math.nan
         self._wall_start: float | None = None
+        self.owner: str | None = None  # id of the controller that drives the run
         self.session = None
 
     # ------------------------------------------------------------------ life cycle
@@ -123,22 +128,28 @@ class ControlBridge:
             protocol.key(run, "manifest"), lambda q: q.reply(q.key_expr, self.manifest.to_json()))
         self._publisher = self.session.declare_publisher(protocol.key(run, "measurements"))
         self._status = self.session.declare_publisher(protocol.key(run, "status"))
-        self._commands = self.session.declare_subscriber(protocol.key(run, "commands"), self._on_command)
+        self._commands = self.session.declare_subscriber(protocol.key(run, "commands/*"), self._on_command)
         self._liveliness = self.session.liveliness().declare_subscriber(
-            protocol.key(run, "controller"), self._on_liveliness, history=True)
-        self._status.put('{"state": "running"}')
+            protocol.key(run, "controller/*"), self._on_liveliness, history=True)
+        # The controller watches this token: it ends when the master disappears (killed, crashed).
+        self._token = self.session.liveliness().declare_token(protocol.key(run, "master"))
+        self._publish_status("running")
         if self._alive.wait(s.connect_timeout):
             self._ever_connected = True
+
+    def _publish_status(self, state: str) -> None:
+        self._status.put(json.dumps({"state": state, "controller": self.owner}))
 
     def close(self, state: str = "finished") -> None:
         if self.session is None:
             return
         try:
-            self._status.put(f'{{"state": "{state}"}}')
+            self._publish_status(state)
             time.sleep(0.05)  # let the status reach the controller before the session goes
         finally:
             # Undeclare explicitly, while the interpreter is healthy, rather than at garbage collection.
-            for entity in (self._liveliness, self._commands, self._queryable, self._publisher, self._status):
+            for entity in (self._token, self._liveliness, self._commands, self._queryable, self._publisher,
+                           self._status):
                 entity.undeclare()
             self.session.close()
             self.session = None
@@ -146,6 +157,9 @@ class ControlBridge:
     # ------------------------------------------------------------------ zenoh callbacks
     def _on_command(self, sample) -> None:  # noqa: ANN001
         arrival = time.perf_counter()
+        if str(sample.key_expr).rsplit("/", 1)[-1] != self.owner:  # a refused second controller
+            self.stats.refused_commands += 1
+            return
         try:
             frame = protocol.decode(sample.payload.to_bytes(), COMMANDS, self.n_commands)
         except FrameError as exc:
@@ -154,11 +168,21 @@ class ControlBridge:
         self._events.put((arrival, frame))
 
     def _on_liveliness(self, sample) -> None:  # noqa: ANN001
+        """One controller drives a run: the first to declare its token owns it until it disconnects; any
+        other is refused (told so on ``status``, its commands ignored, counted in ``refused_controllers``)."""
+        who = str(sample.key_expr).rsplit("/", 1)[-1]
         if str(sample.kind).upper().endswith("PUT"):
+            if self.owner is not None and who != self.owner:
+                self.stats.refused_controllers += 1
+                self._publish_status("running")  # names the owner: the newcomer sees it is refused
+                return
+            self.owner = who
             self._ever_connected = True
             self._alive.set()
-        else:
+            self._publish_status("running")
+        elif who == self.owner:
             self._alive.clear()
+            self.owner = None
             self._events.put((time.perf_counter(), FrameError("disconnected", "controller disconnected")))
 
     # ------------------------------------------------------------------ exchange

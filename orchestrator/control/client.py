@@ -15,8 +15,10 @@ by the law keep their previous value (initially the manifest's defaults, the sce
 
 from __future__ import annotations
 
+import json
 import threading
 import time
+import uuid
 from collections.abc import Callable
 
 from . import protocol
@@ -49,7 +51,13 @@ class Controller:
         self.values.update(self._default_commands())
         self.values.update(defaults or {})
         self.steps = 0
+        self.id = uuid.uuid4().hex[:16]  # this controller's token and command key: wec/<run>/*/<id>
+        self.refused_by: str | None = None  # id of the controller that owns the run, if we are refused
+        self.master_gone: str | None = None  # how the master was lost: its liveliness token went, or silence
+        self.last_heard = time.monotonic()
         self.finished = threading.Event()
+        self.ended = False  # the master announced the end of the run
+        self.announced = False  # our liveliness token is declared
         self.state = {}  # free for laws that keep memory between steps
 
     @property
@@ -75,6 +83,7 @@ class Controller:
         raise TimeoutError(f"no master serves run {self.run_id!r} (waited {timeout:g} s)")
 
     def _on_measurements(self, sample) -> None:  # noqa: ANN001
+        self.last_heard = time.monotonic()
         try:
             frame = protocol.decode(sample.payload.to_bytes(), MEASUREMENTS, len(self.names))
         except FrameError:
@@ -90,25 +99,61 @@ class Controller:
         self._publisher.put(protocol.encode(COMMANDS, step, t, values))
 
     def _on_status(self, sample) -> None:  # noqa: ANN001
-        if b'"running"' not in sample.payload.to_bytes():
+        self.last_heard = time.monotonic()
+        try:
+            status = json.loads(sample.payload.to_bytes())
+        except ValueError:
+            return
+        owner = status.get("controller") if isinstance(status, dict) else None
+        if owner and owner != self.id and self.announced:
+            self.refused_by = owner
+            self.finished.set()
+        if not isinstance(status, dict) or status.get("state") != "running":
+            self.ended = True
             self.finished.set()
 
-    def run(self, max_wall_time: float | None = None) -> None:
-        """Serve measurements until the master ends the run (or ``max_wall_time`` s pass)."""
-        self._publisher = self.session.declare_publisher(protocol.key(self.run_id, "commands"))
+    def _on_master(self, sample) -> None:  # noqa: ANN001
+        # The master withdraws its token also after a normal end (status first): only an unannounced loss counts.
+        if not str(sample.kind).upper().endswith("PUT") and not self.ended:
+            self.master_gone = "its liveliness token went away (process killed or network lost)"
+            self.finished.set()
+
+    def run(self, max_wall_time: float | None = None, timeout: float = 60.0) -> None:
+        """Serve measurements until the master ends the run, ``max_wall_time`` s pass, or the master is
+        silent for ``timeout`` s or its liveliness token disappears (killed master).
+
+        Raises RuntimeError if another controller already drives the run (this one is refused) or if the
+        master disappeared before the end of the run."""
+        self._publisher = self.session.declare_publisher(protocol.key(self.run_id, f"commands/{self.id}"))
         self._status = self.session.declare_subscriber(protocol.key(self.run_id, "status"), self._on_status)
+        self._master = self.session.liveliness().declare_subscriber(protocol.key(self.run_id, "master"),
+                                                                    self._on_master, history=True)
         self._subscriber = self.session.declare_subscriber(protocol.key(self.run_id, "measurements"),
                                                            self._on_measurements)
         # The token tells the master we are ready: declare it only once we can hear measurements.
-        self._token = self.session.liveliness().declare_token(protocol.key(self.run_id, "controller"))
+        self.announced = True  # from now on a status naming another controller means we are refused
+        self._token = self.session.liveliness().declare_token(protocol.key(self.run_id, f"controller/{self.id}"))
+        start = self.last_heard = time.monotonic()
         try:
-            self.finished.wait(max_wall_time)
+            while not self.finished.wait(0.2):
+                now = time.monotonic()
+                if max_wall_time is not None and now - start >= max_wall_time:
+                    break
+                if now - self.last_heard > timeout:
+                    self.master_gone = f"it was silent for {timeout:g} s (--timeout)"
+                    break
         finally:
             self.close()
+        if self.refused_by:
+            raise RuntimeError(f"run {self.run_id!r} is already driven by controller {self.refused_by}; this "
+                               "controller is refused (one controller per run id)")
+        if self.master_gone:
+            raise RuntimeError(f"the master of run {self.run_id!r} is gone after {self.steps} control steps: "
+                               f"{self.master_gone}")
 
     def close(self) -> None:
         if self.session is not None:
-            for name in ("_token", "_subscriber", "_status", "_publisher"):
+            for name in ("_token", "_subscriber", "_status", "_master", "_publisher"):
                 entity = getattr(self, name, None)
                 if entity is not None:
                     entity.undeclare()

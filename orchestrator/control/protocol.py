@@ -1,18 +1,27 @@
-"""Wire protocol between the master and an external controller (version 1).
+"""Wire protocol between the master and an external controller (version 2).
+
+Version 1 had one ``commands`` key per run and no controller ownership; a version-1 controller
+is refused with a clear error when it reads the manifest.
 
 Key expressions, all under ``wec/<run_id>/``:
 
 * ``manifest`` - queryable served by the master: JSON (UTF-8) describing the run, every measured
   signal and every command, in frame order, with units and limits;
 * ``measurements`` - published by the master at every control instant;
-* ``commands`` - published by the controller, one frame per measurement frame it answers;
-* ``status`` - published by the master: JSON ``{"state": "running" | "finished" | "failed"}``;
-* ``controller`` - liveliness token declared by the controller while it is connected.
+* ``commands/<id>`` - published by the controller ``<id>`` (a random token of its own), one frame
+  per measurement frame it answers;
+* ``status`` - published by the master: JSON ``{"state": "running" | "finished" | "failed",
+  "controller": <id of the controller that drives the run, or null>}``;
+* ``controller/<id>`` - liveliness token declared by a controller while it is connected. The first
+  controller to declare one drives the run; while it is connected any other is refused: the master
+  ignores its commands, counts it (``refused_controllers``) and names the owner on ``status``, and
+  the refused controller ends with an error;
+* ``master`` - liveliness token of the master: a controller ends (with an error) when it disappears.
 
 Frame (little-endian), 24-byte header then values::
 
     offset  size  type     field
-    0       2     uint16   protocol version (1)
+    0       2     uint16   protocol version (2)
     2       2     uint16   kind: 1 = measurements, 2 = commands
     4       4     uint32   number of values n
     8       8     int64    control step index k (commands: the k of the measurements answered)
@@ -27,7 +36,7 @@ import math
 import struct
 from dataclasses import asdict, dataclass, field
 
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 MEASUREMENTS = 1
 COMMANDS = 2
 HEADER = struct.Struct("<HHIqd")
@@ -95,6 +104,13 @@ class Manifest:
 
     def command_index(self) -> dict[str, int]:
         return {s.name: i for i, s in enumerate(self.commands)}
+
+    def command_limits(self, kind: str) -> tuple[float, float]:
+        """The range of command ``kind`` (``damping``, ``stiffness``, ``force_command``) that every
+        controlled PTO accepts (the scenario's ``control.*_limits``)."""
+        signals = [s for s in self.commands if s.name.rsplit(".", 1)[-1] == kind]
+        return (max((s.minimum for s in signals), default=-math.inf),
+                min((s.maximum for s in signals), default=math.inf))
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,347 @@
+"""Speed of the constrained multibody against a compiled engine (Exudyn), side by side in one run.
+
+Three parts (issue 15), each timed in this one process so that the ratios hold on a loaded machine:
+
+1. The issue's table: a rod pendulum (one rigid body, revolute joint to the ground, released
+   horizontal) and a planar parallelogram four-bar (three bars, four revolute joints, one degree of
+   freedom), 1 ms step, generalised-alpha with spectral radius 0.8, by this project (index-3,
+   compiled path, and the Python path for reference) and by Exudyn 1.13.6 (index-3 generalised-alpha,
+   3D rigid body for the pendulum, 2D rigid bodies for the four-bar); microseconds per step (whole run
+   / steps, minimum of several runs) and the error at t = 1 s against the exact answer (the ODE of the
+   single degree of freedom solved to 1e-13 by DOP853): cg position error for the pendulum (m),
+   crank angle error for the four-bar (rad). Wall-clock and process CPU time are both reported, the
+   engines alternating run by run; on a loaded machine the CPU-time ratio is the steadier figure.
+2. N floating bodies (N = 1, 2, 4, 8, 16, 32): a row of 1 m cubes of 1000 kg, each on a linear
+   hydrostatic-like mooring (heave 1e4 N/m, roll and pitch 1e4 N m/rad, weak surge, sway, yaw),
+   neighbours hinged about y; a different wave-like heave force on each body held over each 0.01 s step
+   (the co-simulation case: a new input every step, so the formulation restarts every step); microseconds
+   per step of each formulation (index-3, index-1 and null-space, RK4 for the latter two).
+3. The hinge barge (scenarios/hinge_barge.toml, default settings: index-3, 0.02 s macro step,
+   0.01 s multibody step, both FMUs through fmpy): real-time factor of the stepping loop and the steady
+   heave and pitch errors against the exact frequency-domain answer, compiled and Python paths, and
+   the compiled path with the slaves called in-process (the FMI layer's share).
+
+Run: python benchmarks/bench_speed.py --out benchmarks/results/speed.txt   (about 5-10 min)
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+# One BLAS thread: on a loaded 2-core machine OpenBLAS helper threads spin and make the dense solves of the
+# Python and null-space paths slower and noisier (docs/multibody.md); set before numpy is imported.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.common import write_report  # noqa: E402
+from mbd_fmu.bodies import RigidBody  # noqa: E402
+from mbd_fmu.formulations import Settings  # noqa: E402
+from mbd_fmu.joints import Joint  # noqa: E402
+from mbd_fmu.model import MultibodyModel  # noqa: E402
+from mbd_fmu.moorings import LinearMooring  # noqa: E402
+from mbd_fmu.rotations import exp_so3  # noqa: E402
+from mbd_fmu.simulator import MultibodySimulator  # noqa: E402
+
+G = 9.81
+H = 1e-3
+RHO = 0.8
+T_END = 1.0
+ROD_INERTIA = np.diag([1 / 12, 1 / 12, 1e-6])  # 1 kg, 1 m thin rod along its z axis
+
+
+class _Clock:
+    """Wall and process CPU time since creation: on a loaded machine the CPU time is the steadier figure."""
+
+    def __init__(self) -> None:
+        self.wall, self.cpu = time.perf_counter(), time.process_time()
+
+    def per(self, steps: int) -> np.ndarray:
+        return np.array([time.perf_counter() - self.wall, time.process_time() - self.cpu]) / steps
+
+
+# ---------------------------------------------------------------------------------------------- exact answers
+def exact_pendulum(t: float) -> np.ndarray:
+    """Cg of the rod pendulum (pivot at the origin, released horizontal along +x) at ``t``."""
+    sol = solve_ivp(lambda _, y: [y[1], -1.5 * G * np.sin(y[0])], (0, t), [np.pi / 2, 0.0], method="DOP853",
+                    rtol=1e-13, atol=1e-13)
+    phi = sol.y[0, -1]  # from the downward vertical
+    return 0.5 * np.array([np.sin(phi), 0.0, -np.cos(phi)])
+
+
+def exact_crank(t: float) -> float:
+    """Crank angle of the parallelogram four-bar: (5/3) theta'' = -2 g cos theta, theta(0) = pi/2, theta' = -1."""
+    sol = solve_ivp(lambda _, y: [y[1], -1.2 * G * np.cos(y[0])], (0, t), [np.pi / 2, -1.0], method="DOP853",
+                    rtol=1e-13, atol=1e-13)
+    return float(sol.y[0, -1])
+
+
+# ---------------------------------------------------------------------------------------------- this project
+def pendulum_model():
+    b = RigidBody("rod", 1.0, ROD_INERTIA, [0, 0, -0.5])
+    model = MultibodyModel([b], [Joint("pivot", "revolute", None, "rod", (0, 0, 0), (0, 1, 0))], gravity=(0, 0, -G))
+    rot = exp_so3(np.array([0, -np.pi / 2, 0]))
+    pose = model.reference.copy()
+    pose.r, pose.R = (rot @ np.array([0, 0, -0.5]))[None], rot[None]
+    return model, pose, np.zeros(model.n)
+
+
+def four_bar_model():
+    inertia = np.diag([1 / 12, 1e-6, 1 / 12])  # bars along y (cranks); the coupler's is turned below
+    bodies = [RigidBody(f"crank{i}", 1.0, inertia, [i, 0.5, 0], (0, 1, 5)) for i in range(2)]
+    bodies.append(RigidBody("coupler", 1.0, np.diag([1e-6, 1 / 12, 1 / 12]), [0.5, 1, 0], (0, 1, 5)))
+    ax = (0, 0, 1)
+    joints = [Joint("g0", "revolute", None, "crank0", (0, 0, 0), ax),
+              Joint("g1", "revolute", None, "crank1", (1, 0, 0), ax),
+              Joint("c0", "revolute", "crank0", "coupler", (0, 1, 0), ax),
+              Joint("c1", "revolute", "crank1", "coupler", (1, 1, 0), ax)]
+    model = MultibodyModel(bodies, joints, gravity=(0, -G, 0))
+    v6 = np.array([[0.5, 0, 0, 0, 0, -1.0], [0.5, 0, 0, 0, 0, -1.0], [1.0, 0, 0, 0, 0, 0]])
+    return model, model.reference.copy(), np.array([v6[model.index(b), d] for b, d in model.coordinates])
+
+
+def run_ours(build, formulation: str, h: float, steps: int, compiled: bool = True, inputs=None):
+    """(seconds per step, simulator at the end)."""
+    model, pose, v = build()
+    sim = MultibodySimulator(model, Settings(formulation, spectral_radius=RHO))
+    if not compiled:
+        sim.formulation.python_path = True
+    sim.start(pose, v)
+    clock = _Clock()
+    for k in range(steps):
+        sim.advance(h, None if inputs is None else inputs(k * h, model))
+    return clock.per(steps), sim
+
+
+def pendulum_error(sim) -> float:
+    return float(np.linalg.norm(sim.formulation.pose.r[0] - exact_pendulum(sim.time)))
+
+
+def crank_error(sim) -> float:
+    f = sim.formulation
+    tip = f.pose.r[0] + f.pose.R[0] @ np.array([0, 0.5, 0])
+    return abs(float(np.arctan2(tip[1], tip[0])) - exact_crank(sim.time))
+
+
+# ---------------------------------------------------------------------------------------------- Exudyn
+def _exudyn_settings(exu, steps: int, h: float):
+    s = exu.SimulationSettings()
+    s.timeIntegration.numberOfSteps = steps
+    s.timeIntegration.endTime = steps * h
+    s.timeIntegration.generalizedAlpha.spectralRadius = RHO
+    s.timeIntegration.verboseMode = 0
+    s.solutionSettings.writeSolutionToFile = False
+    s.displayComputationTime = False
+    s.displayStatistics = False
+    return s
+
+
+def exudyn_pendulum(h: float, steps: int):
+    """(seconds per step, cg error at the end) of Exudyn's rod pendulum."""
+    import exudyn as exu
+    from exudyn.utilities import RigidBodyInertia
+
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.CreateGround()
+    rot = exp_so3(np.array([0, -np.pi / 2, 0]))
+    body = mbs.CreateRigidBody(inertia=RigidBodyInertia(1.0, ROD_INERTIA), referencePosition=[0.5, 0, 0],
+                               referenceRotationMatrix=rot.tolist(), gravity=[0, 0, -G])
+    mbs.CreateRevoluteJoint(bodyNumbers=[ground, body], position=[0, 0, 0], axis=[0, 1, 0], useGlobalFrame=True)
+    node = mbs.GetObject(body)["nodeNumber"]
+    mbs.Assemble()
+    clock = _Clock()
+    mbs.SolveDynamic(_exudyn_settings(exu, steps, h))
+    dt = clock.per(steps)
+    r = np.array(mbs.GetNodeOutput(node, exu.OutputVariableType.Position))
+    return dt, float(np.linalg.norm(r - exact_pendulum(steps * h)))
+
+
+def exudyn_four_bar(h: float, steps: int):
+    """(seconds per step, crank angle error at the end) of Exudyn's planar four-bar (2D rigid bodies)."""
+    import exudyn as exu
+    import exudyn.itemInterface as ei
+
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.AddObject(ei.ObjectGround())
+    bars = []
+    for pos, v, phi in (((0.0, 0.5), (0.5, 0.0, -1.0), 0.0), ((1.0, 0.5), (0.5, 0.0, -1.0), 0.0),
+                        ((0.5, 1.0), (1.0, 0.0, 0.0), 0.0)):
+        node = mbs.AddNode(ei.NodeRigidBody2D(referenceCoordinates=[pos[0], pos[1], phi],
+                                              initialVelocities=list(v)))
+        obj = mbs.AddObject(ei.ObjectRigidBody2D(physicsMass=1.0, physicsInertia=1 / 12, nodeNumber=node))
+        mass = mbs.AddMarker(ei.MarkerBodyMass(bodyNumber=obj))
+        mbs.AddLoad(ei.LoadMassProportional(markerNumber=mass, loadVector=[0, -G, 0]))
+        bars.append((node, obj))
+
+    def marker(obj, local):
+        return mbs.AddMarker(ei.MarkerBodyPosition(bodyNumber=obj, localPosition=list(local) + [0.0]))
+
+    pairs = [(marker(ground, (0, 0)), marker(bars[0][1], (0, -0.5))),
+             (marker(ground, (1, 0)), marker(bars[1][1], (0, -0.5))),
+             (marker(bars[0][1], (0, 0.5)), marker(bars[2][1], (-0.5, 0))),
+             (marker(bars[1][1], (0, 0.5)), marker(bars[2][1], (0.5, 0)))]
+    for m1, m2 in pairs:
+        mbs.AddObject(ei.ObjectJointRevolute2D(markerNumbers=[m1, m2]))
+    mbs.Assemble()
+    clock = _Clock()
+    mbs.SolveDynamic(_exudyn_settings(exu, steps, h))
+    dt = clock.per(steps)
+    x, y, phi = mbs.GetNodeOutput(bars[0][0], exu.OutputVariableType.Coordinates)[:3]
+    # crank 0's cg moved by (x, y) from (0, 0.5) and turned by phi from +90 degrees
+    return dt, abs(np.pi / 2 + phi - exact_crank(steps * h))
+
+
+# ---------------------------------------------------------------------------------------------- N bodies
+def floating_row(n: int):
+    """Row of n cubes on hydrostatic-like moorings, hinged about y (module docstring)."""
+    inertia = 1000.0 / 6 * np.eye(3)
+    bodies = [RigidBody(f"b{i}", 1000.0, inertia, [1.2 * i, 0, 0]) for i in range(n)]
+    joints = [Joint(f"h{i}", "revolute", f"b{i - 1}", f"b{i}", (1.2 * i - 0.6, 0, 0), (0, 1, 0)) for i in range(1, n)]
+    model = MultibodyModel(bodies, joints)
+    k = np.diag([1e2, 1e2, 1e4, 1e4, 1e4, 1e2])
+    model.elements = [LinearMooring(f"m{i}", i, k, None, model.cg[i].copy()) for i in range(n)]
+    pose = model.reference.copy()
+    pose.r[:, 2] += 0.05 * np.cos(np.arange(n))
+    return model, pose, np.zeros(model.n)
+
+
+_HEAVE: dict = {}
+
+
+def wave_inputs(t: float, model) -> np.ndarray:
+    """A wave-like heave force on each body, a new value every step (slots looked up once per model)."""
+    if id(model) not in _HEAVE:
+        _HEAVE.clear()
+        _HEAVE[id(model)] = np.array([model.slot_of(f"b{i}", 2) for i in range(model.N)])
+    f = np.zeros(model.n)
+    f[_HEAVE[id(model)]] = 2e3 * np.sin(2.0 * t - 0.7 * np.arange(model.N))
+    return f
+
+
+# ---------------------------------------------------------------------------------------------- hinge barge
+def hinge_barge(compiled: bool, duration: float, in_process: bool = False) -> tuple[float, list]:
+    """(real-time factor of the stepping loop, comparisons with the frequency-domain answer), through fmpy."""
+    from orchestrator.scenario import load_scenario
+    from orchestrator.simulation import run_scenario
+
+    s = load_scenario(ROOT / "scenarios" / "hinge_barge.toml")
+    s.simulation.duration = duration
+    env = dict(os.environ)
+    if not compiled:
+        os.environ["WEC_COSIM_NO_JIT"] = "1"
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            result = run_scenario(s, Path(tmp) / "run.h5", progress=False, log=None, in_process=in_process)
+    finally:
+        os.environ.clear()
+        os.environ.update(env)
+    return duration / result.wall_time, result.comparisons
+
+
+# ---------------------------------------------------------------------------------------------- report
+def best(fn, repeats: int):
+    """Minimum (wall, CPU) seconds of ``repeats`` runs of ``fn() -> ((wall, cpu), extra)`` and the last extra."""
+    out = [fn() for _ in range(repeats)]
+    return np.min([o[0] for o in out], axis=0), out[-1][1]
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--out", default="", help="also write the report to this file")
+    p.add_argument("--quick", action="store_true", help="fewer repeats and steps (a smoke run)")
+    args = p.parse_args()
+    repeats = 1 if args.quick else 5
+    steps = int(T_END / H)
+    lines = [f"# command: python benchmarks/bench_speed.py {' '.join(sys.argv[1:])}".rstrip(),
+             f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
+             f"{platform.python_version()}, numpy {np.__version__}; load average at start "
+             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}; OPENBLAS_NUM_THREADS="
+             f"{os.environ.get('OPENBLAS_NUM_THREADS')}"]
+    try:
+        import exudyn
+        import numba
+
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                                cwd=ROOT).stdout.strip()
+        lines.append(f"# exudyn {exudyn.__version__}, numba {numba.__version__}; git {commit}")
+    except ImportError as exc:
+        lines.append(f"# {exc}")
+    t_start = time.perf_counter()
+    # warm the compiled kernels (loaded from the on-disk cache, or compiled once) outside the timings
+    run_ours(pendulum_model, "index3", H, 2)
+    lines.append(f"# kernels ready in {time.perf_counter() - t_start:.2f} s (cache load or first compilation)")
+
+    lines += ["", "## 1. Issue table: project vs Exudyn, h = 1 ms, spectral radius 0.8, 1 s simulated; us per step "
+              f"(minimum of {repeats} runs, the engines alternating), wall clock and process CPU time",
+              f"{'mechanism':<12}{'engine':<22}{'wall us':>9}{'ratio':>7}{'CPU us':>9}{'ratio':>7}{'error at 1 s':>15}"]
+    for name, build, err, exu in (("pendulum", pendulum_model, pendulum_error, exudyn_pendulum),
+                                  ("four-bar", four_bar_model, crank_error, exudyn_four_bar)):
+        runs = {"exu": [], "fast": []}
+        for _ in range(repeats):  # alternate, so that both see the same load
+            runs["exu"].append(exu(H, steps))
+            runs["fast"].append(run_ours(build, "index3", H, steps))
+        t_exu, e_exu = np.min([r[0] for r in runs["exu"]], axis=0), runs["exu"][-1][1]
+        t_fast, sim = np.min([r[0] for r in runs["fast"]], axis=0), runs["fast"][-1][1]
+        t_py, sim_py = run_ours(build, "index3", H, steps, compiled=False)
+        for engine, t, e in (("exudyn 1.13.6", t_exu, e_exu), ("project compiled", t_fast, err(sim)),
+                             ("project python path", t_py, err(sim_py))):
+            lines.append(f"{name:<12}{engine:<22}{t[0] * 1e6:9.1f}{t[0] / t_exu[0]:7.2f}{t[1] * 1e6:9.1f}"
+                         f"{t[1] / t_exu[1]:7.2f}{e:15.3e}")
+        print("\n".join(lines[-3:]), flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+    lines += ["", "## 2. N floating bodies (row of hinged cubes on moorings), h = 0.01 s, new input every step; "
+              "us per step, wall and CPU (index-3 and index-1 compiled; null-space: Python stepping, compiled solves)",
+              f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'index1':>10}{'cpu':>8}{'nullspace':>10}{'cpu':>8}"]
+    for n in (1, 2, 4, 8, 16, 32):
+        k = max(20, 400 // n) if not args.quick else 20
+        row = [best(lambda f=f, n=n, k=k: (run_ours(lambda: floating_row(n), f, 0.01, k, inputs=wave_inputs)[0],
+                                           None), repeats)[0] for f in ("index3", "index1", "nullspace")]
+        lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
+        print(lines[-1], flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+    from benchmarks.bench_multibody import chain
+
+    lines += ["", "## 2b. The issue's 40-body case: bench_multibody's hanging chain of 40 links on revolute joints, "
+              "h = 1 ms, no input; us per step, wall and CPU",
+              f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'index1':>10}{'cpu':>8}{'nullspace':>10}{'cpu':>8}"]
+    for n in (20, 40):
+        k = 10 if args.quick else 60
+        row = [best(lambda f=f, n=n, k=k: (run_ours(lambda: (*chain(n), np.zeros(6 * n)), f, H, k)[0], None),
+                    min(repeats, 3))[0] for f in ("index3", "index1", "nullspace")]
+        lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
+        print(lines[-1], flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+    duration = 10.0 if args.quick else 40.0
+    lines += ["", f"## 3. Hinge barge, default settings, {duration:g} s through fmpy: real-time factor of the stepping "
+              "loop and steady errors against the frequency-domain answer",
+              f"{'path':<30}{'RTF':>8}  errors (amplitude %, phase deg)"]
+    for label, compiled, in_process in (("compiled", True, False), ("python", False, False),
+                                        ("compiled, in-process slaves", True, True)):
+        rtf, comps = hinge_barge(compiled, duration, in_process)
+        errs = ", ".join(f"{c.label} {100 * c.amplitude_error:+.2f}%/{c.phase_error_deg:+.2f}" for c in comps
+                         if "heave" in c.label or "pitch" in c.label or "power" in c.label)
+        lines.append(f"{label:<30}{rtf:8.1f}  {errs}")
+        print(lines[-1], flush=True)
+    lines.append(f"# load average at the end {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+                 f"benchmark wall time {time.perf_counter() - t_start:.0f} s")
+    write_report(lines, args.out)
+
+
+if __name__ == "__main__":
+    main()

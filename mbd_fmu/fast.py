@@ -1,0 +1,215 @@
+"""The compiled path of the multibody model: which models it covers, and the plan its kernels run on.
+
+:mod:`mbd_fmu.kernels` evaluates the model (mass matrix, forces, constraints, tangents) and whole
+generalised-alpha steps in machine code. It covers:
+
+* rigid bodies and point masses on any subset of degrees of freedom, infinite-frequency added mass,
+  gravity and static loads, gyroscopic moments;
+* every joint kind (the four constraint primitives: point, perp, plane, distance), closed loops and
+  redundant constraints (the kept rows, re-chosen along the motion as on the Python path);
+* force elements :class:`~mbd_fmu.moorings.LinearMooring` and
+  :class:`~mbd_fmu.force_elements.CoordinateSpringDamper` (spring-dampers, rotary spring-dampers,
+  bushings on translations, PTOs with their nonlinear law) on a distance, a slide or a joint angle.
+
+A model with anything else (prescribed motion, ropes, friction, catenary lines, spring-dampers on a
+rotation-vector component, any element defined elsewhere) runs on the Python path, unchanged; so
+does every model when numba is missing or ``WEC_COSIM_NO_JIT`` is set. :func:`compiled_model`
+returns None then. The plan is derived data: formulations rebuild it from the model (it is not part
+of a saved state).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from . import kernels
+from ._jit import AVAILABLE
+from .coordinates import Angle, Distance, Slide
+from .force_elements import CoordinateSpringDamper
+from .model import MultibodyModel
+from .moorings import LinearMooring
+
+_COORDINATE_KIND = {Distance: 0, Slide: 1, Angle: 2}
+KINDS = {"point": 0, "perp": 1, "plane": 2, "distance": 3}
+
+
+def unsupported(model: MultibodyModel) -> list[str]:
+    """What keeps ``model`` off the compiled path (empty: covered)."""
+    out = []
+    if model.drivers:
+        out.append("prescribed motion (drivers)")
+    for e in model.elements:
+        if type(e) is LinearMooring:
+            continue
+        if type(e) is CoordinateSpringDamper and type(e.coordinate) in _COORDINATE_KIND:
+            continue
+        out.append(f"force element {e.name!r} ({type(e).__name__} on {type(getattr(e, 'coordinate', None)).__name__})")
+    return out
+
+
+def compiled_model(model: MultibodyModel) -> CompiledModel | None:
+    """The compiled view of ``model``, or None if the model (or this installation) needs the Python path."""
+    if not AVAILABLE or os.environ.get("WEC_COSIM_NO_JIT") or unsupported(model):
+        return None
+    return CompiledModel(model)
+
+
+class CompiledModel:
+    """Plan arrays of a model (module docstring of :mod:`mbd_fmu.kernels` for the layout), rebuilt when the
+    kept constraint rows change; PTO commands and angle-unwrapping references are read from the elements'
+    objects at every step and written back after it, so the Python objects stay the reference."""
+
+    def __init__(self, model: MultibodyModel) -> None:
+        self.model = model
+        m = model
+        m.mass_matrix(m.reference)  # builds the mass index
+        n_full = 6 * (m.N + 1)
+        colmap = -np.ones(n_full, dtype=np.int64)
+        colmap[m.sel] = np.arange(m.n)
+        rows, cols, b, lr, lc = m._mass_index
+        fc = m.static.copy()
+        fc[: m.N, :3] = m.mass[:, None] * m.gravity + m.static[: m.N, :3]
+        self.base = [m.sel.astype(np.int64), colmap, m._mass_constant.copy(), m.inertia.copy(),
+                     np.column_stack([rows, cols, b, lr, lc]).astype(np.int64).reshape(-1, 5), fc,
+                     np.array([int(m._rotating), int(m._has_rotation())], dtype=np.int64)]
+        kinds, bodies, vecs, c0, prim_rows = [], [], [], [], []
+        for g in m.constraints.active:
+            for i in range(len(g)):
+                kinds.append(KINDS[g.kind])
+                bodies.append((g.BI[i], g.BJ[i]))
+                vecs.append((g.VI[i], g.VJ[i], g.NI[i]))
+                c0.append(g.C0[i])
+                r = -np.ones(3, dtype=np.int64)
+                r[: g.ROW.shape[1]] = g.ROW[i]
+                prim_rows.append(r)
+        p = len(kinds)
+        self.prim = [np.array(kinds, dtype=np.int64), np.array(bodies, dtype=np.int64).reshape(p, 2),
+                     np.array(vecs, dtype=float).reshape(p, 3, 3), np.array(c0, dtype=float),
+                     np.array(prim_rows, dtype=np.int64).reshape(p, 3)]
+        moorings = [e for e in m.elements if isinstance(e, LinearMooring)]
+        self.moor = [np.array([e.body for e in moorings], dtype=np.int64),
+                     np.array([(e.stiffness, e.damping if e.damping is not None else np.zeros((6, 6)))
+                               for e in moorings], dtype=float).reshape(-1, 2, 6, 6),
+                     np.array([e.r0 for e in moorings], dtype=float).reshape(-1, 3)]
+        self.springs = [e for e in m.elements if isinstance(e, CoordinateSpringDamper)]
+        coords: list = []
+        for e in self.springs:
+            if all(c is not e.coordinate for c in coords):
+                coords.append(e.coordinate)
+        for cj in m.joints:
+            coords += [c for c in cj.coordinates if type(c) in _COORDINATE_KIND and all(c is not d for d in coords)]
+        self.coordinates = coords
+        self.angles = [(s, c) for s, c in enumerate(coords) if type(c) is Angle]
+        kind, cbody, cvec = [], [], []
+        for c in coords:
+            v = np.zeros((6, 3))
+            if type(c) is Angle:
+                v[2:5] = c.axes_i.T
+                v[5] = c.x_j
+            else:
+                v[0], v[1] = c.si, c.sj
+                if type(c) is Slide:
+                    v[2] = c.n
+                    v[3, 0] = c.offset
+            kind.append(_COORDINATE_KIND[type(c)])
+            cbody.append((c.bi, c.bj))
+            cvec.append(v)
+        s = len(coords)
+        self.coord = [np.array(kind, dtype=np.int64), np.array(cbody, dtype=np.int64).reshape(s, 2),
+                      np.array(cvec, dtype=float).reshape(s, 6, 3),
+                      np.array([next(i for i, c in enumerate(coords) if c is e.coordinate) for e in self.springs],
+                               dtype=np.int64)]
+        self.refs = np.zeros(s)
+        joint_of_row = {r: j for j, cj in enumerate(m.joints) for r in cj.rows}
+        self.outputs_part = [
+            np.array([joint_of_row.get(int(r[0]), -1) for r in self.prim[4]], dtype=np.int64),
+            np.array([cj.m2.body for cj in m.joints], dtype=np.int64),
+            np.array([cj.m2.offset for cj in m.joints], dtype=float).reshape(-1, 3), m.static.copy(),
+            np.concatenate([m.mass, m.gravity, m.cg.ravel()])]
+        self.spring_par = np.zeros((len(self.springs), 8))
+        self._plan = None
+        self._kept = None
+
+    def plan(self, refresh: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """The packed plan (:func:`mbd_fmu.kernels.pack`) for the model's current kept rows (cached per kept set),
+        with the PTO commands and angle references of now (``refresh``: read them from the elements again)."""
+        m = self.model
+        if self._kept is not m.kept:
+            kpos = -np.ones(m.m, dtype=np.int64)
+            kpos[m.kept] = np.arange(len(m.kept))
+            rows = self.prim[4]
+            kept = np.where(rows >= 0, kpos[np.maximum(rows, 0)], -1)
+            order, band = self._ordering(kept)
+            plan = (*self.base, *self.prim, kept, *self.moor, *self.coord[:3], self.coord[3], self.refs,
+                    self.spring_par, m.m, len(m.kept), order, band, *self.outputs_part)
+            ip, fp = kernels.pack(plan)
+            self._plan = (ip, fp)
+            self.refs = _view(ip, fp, 20, self.refs.shape)
+            self.spring_par = _view(ip, fp, 21, self.spring_par.shape)
+            self._kept = m.kept
+        elif not refresh:
+            return self._plan
+        self._refresh()
+        return self._plan
+
+    def _ordering(self, kept: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Band-reducing order of the saddle-point unknowns (slots, then kept rows) from the structure of the
+        iteration matrix: each body's slots together, bodies coupled by added mass, a constraint or a force
+        element, rows with the slots of their bodies. Reverse Cuthill-McKee; a dense order when the band is
+        not narrow (small or densely coupled models)."""
+        from scipy.sparse import csr_matrix
+        from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+        m = self.model
+        n, r = m.n, len(m.kept)
+        nn = n + r
+        body = m.sel // 6
+        pattern = np.zeros((nn, nn), dtype=bool)
+        pattern[:n, :n] = (self.base[2] != 0) | (body[:, None] == body[None, :])
+
+        def couple(a: int, b: int) -> None:
+            pattern[np.ix_(body == a, body == b)] = True
+            pattern[np.ix_(body == b, body == a)] = True
+
+        for (bi, bj), rows in zip(self.prim[1], kept, strict=True):
+            if np.any(rows >= 0):
+                couple(bi, bj)
+            for k in rows[rows >= 0]:
+                pattern[n + k, :n] = (body == bi) | (body == bj)
+                pattern[:n, n + k] = pattern[n + k, :n]
+        for bi, bj in self.coord[1][self.coord[3]]:
+            couple(bi, bj)
+        dense = (np.arange(nn, dtype=np.int64), np.array([max(nn - 1, 0)] * 2, dtype=np.int64))
+        if nn < 24:
+            return dense
+        order = reverse_cuthill_mckee(csr_matrix(pattern), symmetric_mode=True).astype(np.int64)
+        i, j = np.nonzero(pattern[np.ix_(order, order)])
+        band = int(np.max(np.abs(i - j)))
+        if band > nn // 3:
+            return dense
+        return order, np.array([band, band], dtype=np.int64)
+
+    def _refresh(self) -> None:
+        """PTO commands and angle references from the Python objects (they may change between steps)."""
+        if not self.springs and not self.angles:
+            return
+        par = self.spring_par
+        for i, e in enumerate(self.springs):
+            law = e.law
+            par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
+                      law.force_limit, law.velocity_scale)
+        for s, c in self.angles:
+            self.refs[s] = c.reference
+
+    def commit(self, refs: np.ndarray) -> None:
+        """Angle references after an accepted step (what ``MultibodyModel.commit`` does on the Python path)."""
+        for s, c in self.angles:
+            c.reference = float(refs[s])
+
+
+def _view(ip: np.ndarray, fp: np.ndarray, entry: int, shape: tuple) -> np.ndarray:
+    """Writable view of a float entry of a packed plan."""
+    offset = int(ip[kernels._HEAD * entry + 1])
+    return fp[offset:offset + int(np.prod(shape))].reshape(shape)

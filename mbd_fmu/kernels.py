@@ -1,0 +1,1205 @@
+"""Compiled (numba) kernels of the constrained equations of motion: one call per time step.
+
+The same equations as :mod:`mbd_fmu.model`, :mod:`mbd_fmu.constraints` and :mod:`mbd_fmu.formulations`
+(see them for the physics), evaluated on a *plan*: a tuple of plain arrays describing the model
+(:func:`mbd_fmu.fast.build_plan`), so that a whole generalised-alpha step (predictor, Newton
+iterations, iteration matrix, LU factorisation, update) or a whole consistent-acceleration solve
+runs without returning to Python. Only the model parts listed in :mod:`mbd_fmu.fast` are compiled;
+every other model runs on the Python path.
+
+Conventions: full slot vectors have six entries per body and six for the ground (last, always zero);
+``colmap[s]`` is the generalised slot of full slot ``s`` (-1 if inactive); ``rr`` (N+1, 3), ``RR``
+(N+1, 3, 3), ``W`` (N+1, 6) are the snapshot with the ground appended (:class:`mbd_fmu.kinematics.Kin`).
+
+Plan layout (index: content):
+ 0 sel (n,) int; 1 colmap (6(N+1),) int; 2 mass_const (n, n); 3 inertia (N, 3, 3);
+ 4 rot_idx (k, 5) int (mass-matrix scatter: row, col, body, local row, local col); 5 force_const (N+1, 6);
+ 6 flags (2,) int (rotating mass, has rotation);
+ 7 prim_kind (P,) int (0 point, 1 perp, 2 plane, 3 distance); 8 prim_body (P, 2) int; 9 prim_vec (P, 3, 3)
+ (v_i, v_j, n_i); 10 prim_c0 (P,); 11 prim_rows (P, 3) int (global rows, -1 none); 12 prim_kept (P, 3) int
+ (kept position, -1 none);
+ 13 moor_body (Q,) int; 14 moor_kd (Q, 2, 6, 6) (K, D); 15 moor_r0 (Q, 3);
+ 16 coord_kind (S,) int (0 distance, 1 slide, 2 angle); 17 coord_body (S, 2) int; 18 coord_vec (S, 6, 3)
+ (s_i, s_j, n or axes_i columns x, y, z, x_j); 19 spring_coord (E,) int; 20 angle_ref (S,) (unwrapping references,
+ updated by the caller) ; 21 spring_par (E, 8) (k, c, u, neutral, friction, quadratic, force limit, velocity scale)
+ ; 22 m (all rows), 23 n_kept rows; 24 order (n + r,) int of the saddle-point unknowns (reverse Cuthill-McKee of the
+ structure); 25 band (2,) int (lower, upper bandwidth in that order; n + r - 1 each for a dense matrix);
+ 26 prim_joint (P,) int (joint of each primitive, -1 for DOF locks); 27 joint_body2 (J,) int; 28 joint_offset (J, 3)
+ (body 2's joint point from its cg, body axes); 29 static (N+1, 6) (static loads); 30 energy (4 N + 3,) (masses,
+ gravity vector, equilibrium cgs).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._jit import njit
+
+# ---------------------------------------------------------------------------------------------- plan packing
+# The plan travels as two flat arrays (ints, floats): numba types a tuple of 24 arrays in Python at every
+# call (tens of microseconds), two arrays in C. Header of ``ints``: per entry (kind, offset, d0, d1, d2, d3),
+# kind 0 int array, 1 float array, 2 int scalar.
+_ENTRIES = 31
+_HEAD = 6
+
+
+def pack(plan: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """(ints, floats) holding every entry of ``plan`` (see the module docstring)."""
+    head = np.zeros((_ENTRIES, _HEAD), dtype=np.int64)
+    ints, floats = [np.zeros(_ENTRIES * _HEAD, dtype=np.int64)], []
+    ni, nf = _ENTRIES * _HEAD, 0
+    for k, e in enumerate(plan):
+        if isinstance(e, (int, np.integer)):
+            head[k, :3] = (2, int(e), 0)
+            continue
+        a = np.asarray(e)
+        shape = list(a.shape) + [1] * (4 - a.ndim)
+        if a.dtype.kind in "iub":
+            head[k] = (0, ni, *shape)
+            ints.append(a.astype(np.int64).ravel())
+            ni += a.size
+        else:
+            head[k] = (1, nf, *shape)
+            floats.append(a.astype(float).ravel())
+            nf += a.size
+    ints[0] = head.ravel()
+    return np.concatenate(ints), np.concatenate(floats) if floats else np.zeros(0)
+
+
+@njit
+def _i1(ip, k):
+    o, d0 = ip[_HEAD * k + 1], ip[_HEAD * k + 2]
+    return ip[o:o + d0]
+
+
+@njit
+def _i2(ip, k):
+    o, d0, d1 = ip[_HEAD * k + 1], ip[_HEAD * k + 2], ip[_HEAD * k + 3]
+    return ip[o:o + d0 * d1].reshape((d0, d1))
+
+
+@njit
+def _f1(ip, fp, k):
+    o, d0 = ip[_HEAD * k + 1], ip[_HEAD * k + 2]
+    return fp[o:o + d0]
+
+
+@njit
+def _f2(ip, fp, k):
+    o, d0, d1 = ip[_HEAD * k + 1], ip[_HEAD * k + 2], ip[_HEAD * k + 3]
+    return fp[o:o + d0 * d1].reshape((d0, d1))
+
+
+@njit
+def _f3(ip, fp, k):
+    o, d0, d1, d2 = ip[_HEAD * k + 1], ip[_HEAD * k + 2], ip[_HEAD * k + 3], ip[_HEAD * k + 4]
+    return fp[o:o + d0 * d1 * d2].reshape((d0, d1, d2))
+
+
+@njit
+def _f4(ip, fp, k):
+    o, d0, d1, d2, d3 = ip[_HEAD * k + 1], ip[_HEAD * k + 2], ip[_HEAD * k + 3], ip[_HEAD * k + 4], ip[_HEAD * k + 5]
+    return fp[o:o + d0 * d1 * d2 * d3].reshape((d0, d1, d2, d3))
+
+
+@njit
+def unpack(ip, fp):
+    """The plan tuple back from (ints, floats) (views, no copies)."""
+    return (_i1(ip, 0), _i1(ip, 1), _f2(ip, fp, 2), _f3(ip, fp, 3), _i2(ip, 4), _f2(ip, fp, 5), _i1(ip, 6),
+            _i1(ip, 7), _i2(ip, 8), _f3(ip, fp, 9), _f1(ip, fp, 10), _i2(ip, 11), _i2(ip, 12),
+            _i1(ip, 13), _f4(ip, fp, 14), _f2(ip, fp, 15),
+            _i1(ip, 16), _i2(ip, 17), _f3(ip, fp, 18), _i1(ip, 19), _f1(ip, fp, 20), _f2(ip, fp, 21),
+            ip[_HEAD * 22 + 1], ip[_HEAD * 23 + 1], _i1(ip, 24), _i1(ip, 25),
+            _i1(ip, 26), _i1(ip, 27), _f2(ip, fp, 28), _f2(ip, fp, 29), _f1(ip, fp, 30))
+
+# ---------------------------------------------------------------------------------------------- small vectors
+
+
+@njit
+def _cross(a, b):
+    return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
+
+
+@njit
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit
+def _mv(m, v):
+    return np.array((m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2],
+                     m[1, 0] * v[0] + m[1, 1] * v[1] + m[1, 2] * v[2],
+                     m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2]))
+
+
+@njit
+def _mm(a, b):
+    """a @ b by loops (numba sends ``@`` to BLAS, whose call costs more than a small product)."""
+    n, k, m = a.shape[0], a.shape[1], b.shape[1]
+    out = np.zeros((n, m))
+    for i in range(n):
+        for l in range(k):
+            ail = a[i, l]
+            if ail != 0.0:
+                for j in range(m):
+                    out[i, j] += ail * b[l, j]
+    return out
+
+
+@njit
+def _matvec(a, x):
+    """a @ x by loops."""
+    out = np.zeros(a.shape[0])
+    for i in range(a.shape[0]):
+        s = 0.0
+        for j in range(a.shape[1]):
+            s += a[i, j] * x[j]
+        out[i] = s
+    return out
+
+
+@njit
+def _tmatvec(a, x):
+    """a.T @ x by loops."""
+    out = np.zeros(a.shape[1])
+    for i in range(a.shape[0]):
+        xi = x[i]
+        if xi != 0.0:
+            for j in range(a.shape[1]):
+                out[j] += a[i, j] * xi
+    return out
+
+
+@njit
+def _vdot(a, b):
+    s = 0.0
+    for i in range(a.shape[0]):
+        s += a[i] * b[i]
+    return s
+
+
+@njit
+def _centripetal(w, a):
+    """w x (w x a)."""
+    return w * _dot(w, a) - a * _dot(w, w)
+
+
+@njit
+def _skew(v):
+    s = np.zeros((3, 3))
+    s[0, 1], s[0, 2] = -v[2], v[1]
+    s[1, 0], s[1, 2] = v[2], -v[0]
+    s[2, 0], s[2, 1] = -v[1], v[0]
+    return s
+
+
+@njit
+def exp_so3(x, y, z):
+    """Rodrigues (mbd_fmu.rotations.exp_so3)."""
+    t2 = x * x + y * y + z * z
+    t = math.sqrt(t2)
+    if t < 1e-6:
+        a, b = 1 - t2 / 6, 0.5 - t2 / 24
+    else:
+        a, b = math.sin(t) / t, (1 - math.cos(t)) / t2
+    out = np.empty((3, 3))
+    bxy, bxz, byz = b * x * y, b * x * z, b * y * z
+    out[0, 0], out[0, 1], out[0, 2] = 1 + b * (x * x - t2), bxy - a * z, bxz + a * y
+    out[1, 0], out[1, 1], out[1, 2] = bxy + a * z, 1 + b * (y * y - t2), byz - a * x
+    out[2, 0], out[2, 1], out[2, 2] = bxz - a * y, byz + a * x, 1 + b * (z * z - t2)
+    return out
+
+
+@njit
+def log_so3(r):
+    """Rotation vector of a rotation matrix (mbd_fmu.rotations.log_so3), angle in [0, pi]."""
+    c = min(max((r[0, 0] + r[1, 1] + r[2, 2] - 1) / 2, -1.0), 1.0)
+    t = math.acos(c)
+    w = np.array((r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]))
+    if t <= math.pi - 1e-4:
+        factor = 0.5 + t * t / 12 if t < 1e-4 else t / (2 * math.sin(t))
+        return factor * w
+    sym = 0.5 * (r + r.T) - c * np.eye(3)
+    k = 0
+    for i in range(1, 3):
+        if sym[i, i] > sym[k, k]:
+            k = i
+    n = sym[k] / math.sqrt(max(sym[k, k], 1e-300))
+    if _dot(n, w) < 0:
+        n = -n
+    return n * t
+
+
+@njit
+def left_jacobian_inverse(phi):
+    x, y, z = phi[0], phi[1], phi[2]
+    t2 = x * x + y * y + z * z
+    t = math.sqrt(t2)
+    c = 1 / 12 + t2 / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / t2
+    out = np.empty((3, 3))
+    cxy, cxz, cyz = c * x * y, c * x * z, c * y * z
+    out[0, 0], out[0, 1], out[0, 2] = 1 + c * (x * x - t2), cxy + 0.5 * z, cxz - 0.5 * y
+    out[1, 0], out[1, 1], out[1, 2] = cxy - 0.5 * z, 1 + c * (y * y - t2), cyz + 0.5 * x
+    out[2, 0], out[2, 1], out[2, 2] = cxz + 0.5 * y, cyz - 0.5 * x, 1 + c * (z * z - t2)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------- dense LU
+
+
+@njit
+def lu_factor(a, piv, kl, ku):
+    """In-place LU with partial pivoting of a matrix of lower and upper bandwidths ``kl``, ``ku`` (LINPACK's
+    dgbfa scheme on full storage: multipliers kept unswapped, fill-in up to ``kl + ku`` above the diagonal;
+    ``kl = ku = n - 1`` is the dense LU); False if singular. Cost O(n kl (kl + ku))."""
+    n = a.shape[0]
+    for k in range(n):
+        lo = min(n - 1, k + kl)
+        hi = min(n - 1, k + kl + ku)
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, lo + 1):
+            if abs(a[i, k]) > big:
+                big, p = abs(a[i, k]), i
+        piv[k] = p
+        if big == 0.0:
+            return False
+        if p != k:
+            for j in range(k, hi + 1):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+        inv = 1.0 / a[k, k]
+        for i in range(k + 1, lo + 1):
+            f = a[i, k] * inv
+            a[i, k] = f
+            if f != 0.0:
+                for j in range(k + 1, hi + 1):
+                    a[i, j] -= f * a[k, j]
+    return True
+
+
+@njit
+def lu_solve(a, piv, kl, ku, b):
+    """Solve with the factors of :func:`lu_factor`."""
+    n = a.shape[0]
+    x = b.copy()
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            x[k], x[p] = x[p], x[k]
+        xk = x[k]
+        if xk != 0.0:
+            for i in range(k + 1, min(n - 1, k + kl) + 1):
+                x[i] -= a[i, k] * xk
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, min(n - 1, i + kl + ku) + 1):
+            s -= a[i, j] * x[j]
+        x[i] = s / a[i, i]
+    return x
+
+
+@njit
+def factor(plan, mat):
+    """LU factors of a saddle-point matrix in the plan's band-reducing order: (factors, pivots, ok)."""
+    nn = mat.shape[0]
+    lu = np.empty((nn, nn))
+    piv = np.zeros(nn, dtype=np.int64)
+    ok = factor_into(plan, mat, lu, piv)
+    return lu, piv, ok
+
+
+@njit
+def factor_into(plan, mat, lu, piv):
+    """:func:`factor` into given arrays (n + r, n + r) and (n + r,); False if singular."""
+    order, band = plan[24], plan[25]
+    nn = mat.shape[0]
+    for i in range(nn):
+        oi = order[i]
+        for j in range(nn):
+            lu[i, j] = mat[oi, order[j]]
+    return lu_factor(lu, piv, band[0], band[1])
+
+
+@njit
+def solve(plan, lu, piv, b):
+    order, band = plan[24], plan[25]
+    x = lu_solve(lu, piv, band[0], band[1], b[order])
+    out = np.empty_like(x)
+    out[order] = x
+    return out
+
+
+# ---------------------------------------------------------------------------------------------- model pieces
+
+
+@njit
+def snapshot(pr, pR, v, sel):
+    """(rr, RR, W) of a pose and generalised velocities, ground appended."""
+    nb = pr.shape[0]
+    rr = np.zeros((nb + 1, 3))
+    RR = np.empty((nb + 1, 3, 3))
+    rr[:nb] = pr
+    RR[:nb] = pR
+    RR[nb] = np.eye(3)
+    W = np.zeros((nb + 1, 6))
+    wf = W.reshape(-1)
+    for i in range(sel.shape[0]):
+        wf[sel[i]] = v[i]
+    return rr, RR, W
+
+
+@njit
+def retract(pr, pR, delta, sel):
+    """pose (+) delta for generalised slots ``delta``."""
+    nb = pr.shape[0]
+    d = np.zeros(6 * (nb + 1))
+    for i in range(sel.shape[0]):
+        d[sel[i]] = delta[i]
+    r1 = pr.copy()
+    R1 = np.empty_like(pR)
+    for b in range(nb):
+        r1[b, 0] += d[6 * b]
+        r1[b, 1] += d[6 * b + 1]
+        r1[b, 2] += d[6 * b + 2]
+        e = exp_so3(d[6 * b + 3], d[6 * b + 4], d[6 * b + 5])
+        R1[b] = _mm(e, pR[b])
+    return r1, R1
+
+
+@njit
+def world_inertia(plan, RR):
+    inertia = plan[3]
+    nb = inertia.shape[0]
+    iw = np.empty((nb, 3, 3))
+    for b in range(nb):
+        r, i0 = RR[b], inertia[b]
+        for i in range(3):
+            for j in range(i, 3):
+                acc = 0.0
+                for k in range(3):
+                    rik = r[i, k]
+                    if rik != 0.0:
+                        acc += rik * (i0[k, 0] * r[j, 0] + i0[k, 1] * r[j, 1] + i0[k, 2] * r[j, 2])
+                iw[b, i, j] = acc
+                iw[b, j, i] = acc
+    return iw
+
+
+@njit
+def mass_matrix(plan, iw):
+    m = plan[2].copy()
+    if plan[6][0]:
+        idx = plan[4]
+        for k in range(idx.shape[0]):
+            m[idx[k, 0], idx[k, 1]] += iw[idx[k, 2], idx[k, 3], idx[k, 4]]
+    return m
+
+
+@njit
+def _two_points(rr, RR, W, bi, bj, si, sj):
+    ai = _mv(RR[bi], si)
+    aj = _mv(RR[bj], sj)
+    d = rr[bj] + aj - rr[bi] - ai
+    wi, wj = W[bi, 3:].copy(), W[bj, 3:].copy()
+    dd = W[bj, :3] + _cross(wj, aj) - W[bi, :3] - _cross(wi, ai)
+    return ai, aj, d, wi, wj, dd
+
+
+@njit
+def coordinate(plan, s, rr, RR, W, ref):
+    """Value, rate and 12-slot Jacobian of compiled coordinate ``s`` (distance, slide, angle)."""
+    kind = plan[16][s]
+    bi, bj = plan[17][s, 0], plan[17][s, 1]
+    vec = plan[18][s]
+    jac = np.zeros(12)
+    if kind == 2:  # angle of x_j about z_i from x_i (mbd_fmu.coordinates.Angle)
+        fx, fy = _mv(RR[bi], vec[2]), _mv(RR[bi], vec[3])
+        xj = _mv(RR[bj], vec[5])
+        c, sn = _dot(xj, fx), _dot(xj, fy)
+        raw = math.atan2(sn, c)
+        value = raw + 2 * math.pi * np.rint((ref - raw) / (2 * math.pi))
+        g = (c * _cross(xj, fy) - sn * _cross(xj, fx)) / (c * c + sn * sn)
+        jac[3:6] = -g
+        jac[9:12] = g
+    else:
+        ai, aj, d, wi, wj, dd = _two_points(rr, RR, W, bi, bj, vec[0], vec[1])
+        if kind == 0:
+            length = math.sqrt(_dot(d, d))
+            e = d / length
+            value = length
+            jac[0:3] = -e
+            jac[3:6] = -_cross(ai, e)
+            jac[6:9] = e
+            jac[9:12] = _cross(aj, e)
+        else:
+            n = _mv(RR[bi], vec[2])
+            value = _dot(n, d) - vec[3, 0]
+            jac[0:3] = -n
+            jac[3:6] = _cross(n, d + ai)
+            jac[6:9] = n
+            jac[9:12] = _cross(aj, n)
+    rate = 0.0
+    for k in range(6):
+        rate += jac[k] * W[bi, k] + jac[6 + k] * W[bj, k]
+    return value, rate, jac
+
+
+@njit
+def angle_references(plan, rr, RR, W, refs):
+    """Unwrapped angle values at a committed state (mbd_fmu.coordinates.Angle.commit); others unchanged."""
+    out = refs.copy()
+    for s in range(plan[16].shape[0]):
+        if plan[16][s] == 2:
+            out[s] = coordinate(plan, s, rr, RR, W, refs[s])[0]
+    return out
+
+
+@njit
+def _law(par, x, v):
+    """Force and (dF/dx, dF/dv) of a PTO law (mbd_fmu.force_elements.PtoLaw)."""
+    k, c, u, fric, quad, flim, vs = par[0], par[1], par[2], par[4], par[5], par[6], par[7]
+    linear = -k * x - c * v + u
+    if fric == 0.0 and quad == 0.0 and flim == 0.0:
+        return linear, -k, -c
+    g = linear - fric * math.tanh(v / vs) - quad * abs(v) * v
+    dg_dv = -c - fric / vs / math.cosh(v / vs) ** 2 - 2 * quad * abs(v)
+    if flim > 0:
+        slope = 1.0 / math.cosh(g / flim) ** 2
+        return flim * math.tanh(g / flim), slope * -k, slope * dg_dv
+    return g, -k, dg_dv
+
+
+@njit
+def _add_full(out, colmap, si, sj, val):
+    gi, gj = colmap[si], colmap[sj]
+    if gi >= 0 and gj >= 0:
+        out[gi, gj] += val
+
+
+@njit
+def element_forces(plan, rr, RR, W, refs, f):
+    """Add the compiled force elements' generalised forces into the full slot vector ``f``."""
+    for q in range(plan[13].shape[0]):
+        b = plan[13][q]
+        kd = plan[14][q]
+        phi = log_so3(RR[b])
+        x = np.empty(6)
+        x[:3] = rr[b] - plan[15][q]
+        x[3:] = phi
+        g = -_matvec(kd[0], x) - _matvec(kd[1], W[b])
+        jinv = left_jacobian_inverse(phi)
+        f[6 * b:6 * b + 3] += g[:3]
+        f[6 * b + 3:6 * b + 6] += _tmatvec(jinv, g[3:])
+    for e in range(plan[19].shape[0]):
+        s = plan[19][e]
+        par = plan[21][e]
+        value, rate, jac = coordinate(plan, s, rr, RR, W, refs[s])
+        force = _law(par, value - par[3], rate)[0]
+        bi, bj = plan[17][s, 0], plan[17][s, 1]
+        for k in range(6):
+            f[6 * bi + k] += jac[k] * force
+            f[6 * bj + k] += jac[6 + k] * force
+
+
+@njit
+def forces(plan, rr, RR, W, iw, inputs, refs):
+    """Generalised force (gyroscopic, gravity, static loads, elements) plus the input, (n,)."""
+    fc = plan[5]
+    nb = fc.shape[0] - 1
+    f = fc.copy().reshape(-1)
+    for b in range(nb):
+        w0, w1, w2 = W[b, 3], W[b, 4], W[b, 5]
+        if w0 != 0.0 or w1 != 0.0 or w2 != 0.0:
+            i = iw[b]
+            h0 = i[0, 0] * w0 + i[0, 1] * w1 + i[0, 2] * w2
+            h1 = i[1, 0] * w0 + i[1, 1] * w1 + i[1, 2] * w2
+            h2 = i[2, 0] * w0 + i[2, 1] * w1 + i[2, 2] * w2
+            f[6 * b + 3] -= w1 * h2 - w2 * h1
+            f[6 * b + 4] -= w2 * h0 - w0 * h2
+            f[6 * b + 5] -= w0 * h1 - w1 * h0
+    element_forces(plan, rr, RR, W, refs, f)
+    sel = plan[0]
+    out = np.empty(sel.shape[0])
+    for i in range(sel.shape[0]):
+        out[i] = f[sel[i]] + inputs[i]
+    return out
+
+
+@njit
+def tangents(plan, rr, RR, W, iw, acc, lam_kept, refs):
+    """Stiffness and damping (n, n) of the Newton matrix: force elements, inertial and geometric stiffness,
+    gyroscopic damping (mbd_fmu.model.MultibodyModel.tangents and the three following methods)."""
+    sel, colmap = plan[0], plan[1]
+    n = sel.shape[0]
+    kt = np.zeros((n, n))
+    dt = np.zeros((n, n))
+    for q in range(plan[13].shape[0]):
+        b = plan[13][q]
+        kd = plan[14][q]
+        for i in range(6):
+            for j in range(6):
+                _add_full(kt, colmap, 6 * b + i, 6 * b + j, kd[0, i, j])
+                _add_full(dt, colmap, 6 * b + i, 6 * b + j, kd[1, i, j])
+    for e in range(plan[19].shape[0]):
+        s = plan[19][e]
+        par = plan[21][e]
+        value, rate, jac = coordinate(plan, s, rr, RR, W, refs[s])
+        _, dfdx, dfdv = _law(par, value - par[3], rate)
+        bi, bj = plan[17][s, 0], plan[17][s, 1]
+        for i in range(12):
+            si = 6 * bi + i if i < 6 else 6 * bj + i - 6
+            for j in range(12):
+                sj = 6 * bi + j if j < 6 else 6 * bj + j - 6
+                _add_full(kt, colmap, si, sj, -dfdx * jac[i] * jac[j])
+                _add_full(dt, colmap, si, sj, -dfdv * jac[i] * jac[j])
+    if not plan[6][1]:
+        return kt, dt
+    nb = iw.shape[0]
+    af = np.zeros(6 * (nb + 1))
+    for i in range(n):
+        af[sel[i]] = acc[i]
+    for b in range(nb):
+        a = af[6 * b + 3:6 * b + 6]
+        w = W[b, 3:]
+        ks = -_skew(_mv(iw[b], a)) + _mm(iw[b], _skew(a))
+        ds = _mm(_skew(w), iw[b]) - _skew(_mv(iw[b], w))
+        for i in range(3):
+            for j in range(3):
+                _add_full(kt, colmap, 6 * b + 3 + i, 6 * b + 3 + j, ks[i, j])
+                _add_full(dt, colmap, 6 * b + 3 + i, 6 * b + 3 + j, ds[i, j])
+    # geometric stiffness of the point and perp primitives (mbd_fmu.constraints.ConstraintSet.geometric_stiffness)
+    kinds, bodies, vecs, kept = plan[7], plan[8], plan[9], plan[12]
+    for p in range(kinds.shape[0]):
+        bi, bj = bodies[p, 0], bodies[p, 1]
+        if kinds[p] == 0:
+            lk = np.zeros(3)
+            for c in range(3):
+                if kept[p, c] >= 0:
+                    lk[c] = lam_kept[kept[p, c]]
+            for side in range(2):
+                b = bi if side == 0 else bj
+                sign = 1.0 if side == 0 else -1.0
+                a = _mv(RR[b], vecs[p, side])
+                al = _dot(a, lk)
+                for i in range(3):
+                    for j in range(3):
+                        val = a[i] * lk[j] - (al if i == j else 0.0)
+                        _add_full(kt, colmap, 6 * b + 3 + i, 6 * b + 3 + j, sign * val)
+        elif kinds[p] == 1 and kept[p, 0] >= 0:
+            lk = lam_kept[kept[p, 0]]
+            u = _mv(RR[bi], vecs[p, 0])
+            w = _mv(RR[bj], vecs[p, 1])
+            uw = _dot(u, w)
+            for i in range(3):
+                for j in range(3):
+                    d = uw if i == j else 0.0
+                    ii = lk * (u[i] * w[j] - d)
+                    ij = lk * (d - w[i] * u[j])
+                    _add_full(kt, colmap, 6 * bi + 3 + i, 6 * bi + 3 + j, ii)
+                    _add_full(kt, colmap, 6 * bi + 3 + i, 6 * bj + 3 + j, ij)
+                    _add_full(kt, colmap, 6 * bj + 3 + i, 6 * bi + 3 + j, -ii)
+                    _add_full(kt, colmap, 6 * bj + 3 + i, 6 * bj + 3 + j, -ij)
+    return kt, dt
+
+
+@njit
+def _put(jac, row, colmap, slot, value):
+    g = colmap[slot]
+    if g >= 0:
+        jac[row, g] = value
+
+
+@njit
+def _point_perp(rr, RR, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac):
+    """Value and Jacobian rows of a point (kind 0) or perp (kind 1) primitive in scalar arithmetic (the same
+    expressions as :func:`constraints`' general branch)."""
+    ri, rj = RR[bi], RR[bj]
+    a0 = ri[0, 0] * vec[0, 0] + ri[0, 1] * vec[0, 1] + ri[0, 2] * vec[0, 2]
+    a1 = ri[1, 0] * vec[0, 0] + ri[1, 1] * vec[0, 1] + ri[1, 2] * vec[0, 2]
+    a2 = ri[2, 0] * vec[0, 0] + ri[2, 1] * vec[0, 1] + ri[2, 2] * vec[0, 2]
+    b0 = rj[0, 0] * vec[1, 0] + rj[0, 1] * vec[1, 1] + rj[0, 2] * vec[1, 2]
+    b1 = rj[1, 0] * vec[1, 0] + rj[1, 1] * vec[1, 1] + rj[1, 2] * vec[1, 2]
+    b2 = rj[2, 0] * vec[1, 0] + rj[2, 1] * vec[1, 1] + rj[2, 2] * vec[1, 2]
+    si, sj = 6 * bi, 6 * bj
+    if kind == 1:  # u . w = c0, u = a, w = b
+        row = kept[0]
+        if row < 0:
+            return
+        phi[row] = a0 * b0 + a1 * b1 + a2 * b2 - c0
+        if want_jac:
+            x0, x1, x2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+            _put(jac, row, colmap, si + 3, x0)
+            _put(jac, row, colmap, si + 4, x1)
+            _put(jac, row, colmap, si + 5, x2)
+            _put(jac, row, colmap, sj + 3, -x0)
+            _put(jac, row, colmap, sj + 4, -x1)
+            _put(jac, row, colmap, sj + 5, -x2)
+        return
+    a = (a0, a1, a2)
+    b = (b0, b1, b2)
+    for c in range(3):
+        row = kept[c]
+        if row < 0:
+            continue
+        phi[row] = rr[bi, c] + a[c] - rr[bj, c] - b[c]
+        if not want_jac:
+            continue
+        _put(jac, row, colmap, si + c, 1.0)
+        _put(jac, row, colmap, sj + c, -1.0)
+        # -S(a_i) row c on body i's rotations, S(a_j) row c on body j's: S(v) rows (0,-v2,v1), (v2,0,-v0), (-v1,v0,0)
+        if c == 0:
+            _put(jac, row, colmap, si + 4, a2)
+            _put(jac, row, colmap, si + 5, -a1)
+            _put(jac, row, colmap, sj + 4, -b2)
+            _put(jac, row, colmap, sj + 5, b1)
+        elif c == 1:
+            _put(jac, row, colmap, si + 3, -a2)
+            _put(jac, row, colmap, si + 5, a0)
+            _put(jac, row, colmap, sj + 3, b2)
+            _put(jac, row, colmap, sj + 5, -b0)
+        else:
+            _put(jac, row, colmap, si + 3, a1)
+            _put(jac, row, colmap, si + 4, -a0)
+            _put(jac, row, colmap, sj + 3, -b1)
+            _put(jac, row, colmap, sj + 4, b0)
+
+
+@njit
+def constraints(plan, rr, RR, W, want_jac, want_gamma):
+    """Kept rows: Phi (r,), Jacobian (r, n) on generalised slots, gamma (r,) (mbd_fmu.constraints)."""
+    colmap = plan[1]
+    n = plan[0].shape[0]
+    nk = plan[23]
+    phi = np.zeros(nk)
+    jac = np.zeros((nk, n)) if want_jac else np.zeros((0, 0))
+    gam = np.zeros(nk) if want_gamma else np.zeros(0)
+    kinds, bodies, vecs, c0, kept = plan[7], plan[8], plan[9], plan[10], plan[12]
+    blk = np.zeros((3, 12))
+    for p in range(kinds.shape[0]):
+        kind = kinds[p]
+        if kept[p, 0] < 0 and kept[p, 1] < 0 and kept[p, 2] < 0:
+            continue
+        if kind <= 1 and not want_gamma:  # the Newton residual's case: scalars only, no temporary arrays
+            _point_perp(rr, RR, bodies[p, 0], bodies[p, 1], vecs[p], c0[p], kind, kept[p], colmap, phi, jac,
+                        want_jac)
+            continue
+        bi, bj = bodies[p, 0], bodies[p, 1]
+        val = np.zeros(3)
+        gm = np.zeros(3)
+        blk[:] = 0.0
+        if kind == 0:
+            ai = _mv(RR[bi], vecs[p, 0])
+            aj = _mv(RR[bj], vecs[p, 1])
+            val = rr[bi] + ai - rr[bj] - aj
+            si, sj = _skew(ai), _skew(aj)
+            for c in range(3):
+                blk[c, c] = 1.0
+                blk[c, 6 + c] = -1.0
+                for k in range(3):
+                    blk[c, 3 + k] = -si[c, k]
+                    blk[c, 9 + k] = sj[c, k]
+            if want_gamma:
+                gm = _centripetal(W[bj, 3:], aj) - _centripetal(W[bi, 3:], ai)
+        elif kind == 1:
+            u = _mv(RR[bi], vecs[p, 0])
+            w = _mv(RR[bj], vecs[p, 1])
+            val[0] = _dot(u, w) - c0[p]
+            uxw = _cross(u, w)
+            blk[0, 3:6] = uxw
+            blk[0, 9:12] = -uxw
+            if want_gamma:
+                wi, wj = W[bi, 3:].copy(), W[bj, 3:].copy()
+                d = _cross(_cross(wi, u), w) + _cross(u, _cross(wj, w))
+                gm[0] = -_dot(d, wi - wj)
+        else:
+            ai, aj, d, wi, wj, dd = _two_points(rr, RR, W, bi, bj, vecs[p, 0], vecs[p, 1])
+            cent = _centripetal(wj, aj) - _centripetal(wi, ai)
+            if kind == 2:
+                nv = _mv(RR[bi], vecs[p, 2])
+                val[0] = _dot(nv, d) - c0[p]
+                blk[0, 0:3] = -nv
+                blk[0, 3:6] = _cross(nv, d + ai)
+                blk[0, 6:9] = nv
+                blk[0, 9:12] = _cross(aj, nv)
+                if want_gamma:
+                    win = _cross(wi, nv)
+                    gm[0] = -(_dot(_cross(wi, win), d) + 2 * _dot(win, dd) + _dot(nv, cent))
+            else:
+                length = math.sqrt(_dot(d, d))
+                e = d / length
+                val[0] = length - c0[p]
+                blk[0, 0:3] = -e
+                blk[0, 3:6] = -_cross(ai, e)
+                blk[0, 6:9] = e
+                blk[0, 9:12] = _cross(aj, e)
+                if want_gamma:
+                    ed = _dot(e, dd)
+                    gm[0] = -(_dot(e, cent) + (_dot(dd, dd) - ed * ed) / length)
+        for c in range(3):
+            row = kept[p, c]
+            if row < 0:
+                continue
+            phi[row] = val[c]
+            if want_gamma:
+                gam[row] = gm[c]
+            if want_jac:
+                for k in range(12):
+                    g = colmap[6 * bi + k] if k < 6 else colmap[6 * bj + k - 6]
+                    if g >= 0:
+                        jac[row, g] = blk[c, k]
+    return phi, jac, gam
+
+
+@njit
+def saddle(s, c):
+    n, r = s.shape[0], c.shape[0]
+    out = np.zeros((n + r, n + r))
+    out[:n, :n] = s
+    out[:n, n:] = c.T
+    out[n:, :n] = c
+    return out
+
+
+@njit
+def acceleration_packed(ip, fp, pr, pR, v, inputs, refs):
+    """:func:`acceleration` on a packed plan (the entry point from Python)."""
+    return acceleration(unpack(ip, fp), pr, pR, v, inputs, refs)
+
+
+@njit
+def acceleration(plan, pr, pR, v, inputs, refs):
+    """Consistent v' and lambda (kept rows) from the saddle-point system (Formulation.acceleration)."""
+    sel = plan[0]
+    n = sel.shape[0]
+    rr, RR, W = snapshot(pr, pR, v, sel)
+    iw = world_inertia(plan, RR)
+    mass = mass_matrix(plan, iw)
+    f = forces(plan, rr, RR, W, iw, inputs, refs)
+    phi, jac, gam = constraints(plan, rr, RR, W, True, True)
+    r = phi.shape[0]
+    rhs = np.empty(n + r)
+    rhs[:n] = f
+    rhs[n:] = gam
+    lu, piv, ok = factor(plan, saddle(mass, jac))
+    if not ok:
+        return np.full(n, np.nan), np.full(r, np.nan)
+    x = solve(plan, lu, piv, rhs)
+    return x[:n].copy(), x[n:].copy()
+
+
+@njit
+def row_quality(ip, fp, pr, pR):
+    """Smallest singular value of the row-normalised kept Jacobian (Formulation.reselect_rows)."""
+    plan = unpack(ip, fp)
+    rr, RR, W = snapshot(pr, pR, np.zeros(plan[0].shape[0]), plan[0])
+    return _row_quality(plan, rr, RR, W)
+
+
+@njit
+def _row_quality(plan, rr, RR, W):
+    jac = constraints(plan, rr, RR, W, True, False)[1]
+    for i in range(jac.shape[0]):
+        jac[i] /= max(math.sqrt(np.sum(jac[i] ** 2)), 1e-300)
+    gram = np.zeros((jac.shape[0], jac.shape[0]))
+    for i in range(jac.shape[0]):
+        for j in range(i + 1):
+            gram[i, j] = gram[j, i] = _vdot(jac[i], jac[j])
+    return math.sqrt(max(np.linalg.eigvalsh(gram).min(), 0.0)) if jac.shape[0] else 1.0
+
+
+# ---------------------------------------------------------------------------------------------- generalised-alpha
+
+
+@njit
+def _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs, refs):
+    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
+    zeta = (1 - af) / (1 - am)
+    sel = plan[0]
+    n = sel.shape[0]
+    a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+    v1 = v_n + h * ((1 - g) * a_n + g * a1)
+    r1, R1 = retract(pr, pR, h * (v_n + h * ((0.5 - b) * a_n + b * a1)), sel)
+    rr, RR, W = snapshot(r1, R1, v1, sel)
+    iw = world_inertia(plan, RR)
+    mass = mass_matrix(plan, iw)
+    phi, jac, _ = constraints(plan, rr, RR, W, True, False)
+    res = np.empty(n + phi.shape[0])
+    res[:n] = _matvec(mass, vd) - forces(plan, rr, RR, W, iw, inputs, refs) + _tmatvec(jac, lam)
+    res[n:] = phi / (h * h * b * zeta)
+    return res, rr, RR, W, iw, mass, jac
+
+
+@njit
+def ga_full_step(ip, fp, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, newton_tolerance, length,
+                 max_iterations, lu, piv, have_lu):
+    """:func:`ga_step`, then (if converged) the update, the angle references and (with redundant constraints)
+    the kept rows' quality at the new pose: the whole step in one call. ``lu``, ``piv``: the kept factors
+    (``have_lu``), overwritten when the matrix is refreshed.
+
+    Returns (status, iterations, keep, quality, out) with ``out`` = [v', lambda, r, R, v, a, angle references]
+    flattened (one array: fewer objects to hand back to Python)."""
+    plan = unpack(ip, fp)
+    tol = newton_tolerance * max(length, np.abs(v_n).max() if v_n.shape[0] else 0.0)
+    status, iterations, keep, vd, lam = ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef,
+                                                tol, max_iterations, lu, piv, have_lu)
+    if status != 0:
+        return status, iterations, keep, 1.0, np.zeros(0)
+    r1, R1, v1, a1 = ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
+    rr, RR, W = snapshot(r1, R1, v1, plan[0])
+    refs1 = angle_references(plan, rr, RR, W, refs)
+    quality = _row_quality(plan, rr, RR, W) if plan[23] < plan[22] else 1.0
+    out = np.concatenate((vd, lam, r1.ravel(), R1.ravel(), v1, a1, refs1))
+    return status, iterations, keep, quality, out
+
+
+@njit
+def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max_iterations, lu, piv, have_lu):
+    """One Lie group generalised-alpha step of the index-3 DAE (mbd_fmu.formulations.Index3.step, same
+    iteration: modified Newton with the matrix kept across steps, damped when the residual grows, a
+    finite-difference Jacobian when the contraction stagnates). ``lu``, ``piv`` (n + r): the factors, used if
+    ``have_lu`` and overwritten when refreshed.
+
+    Returns (status, iterations, keep matrix, vd, lam): status 0 converged, 1 not converged, 2 singular matrix.
+    """
+    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
+    zeta = (1 - af) / (1 - am)
+    n = v_n.shape[0]
+    vd, lam = vd_n.copy(), lam_n.copy()
+    nn = n + lam.shape[0]
+    exact = False
+    size = np.inf
+    r_norm_prev = np.inf
+    dx = np.zeros(nn)
+    has_dx = False
+    previous = -1.0
+    lu_ok = have_lu
+    status = 1
+    iterations = 0
+    it = 0
+    for it in range(max_iterations):
+        res, rr, RR, W, iw, mass, jac = _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs, refs)
+        r_norm = np.abs(res).max() if nn else 0.0
+        backtracks = 0
+        while has_dx and it >= 2 and r_norm > r_norm_prev and backtracks < 6:
+            dx = 0.5 * dx
+            vd = vd - dx[:n]
+            lam = lam - dx[n:]
+            res, rr, RR, W, iw, mass, jac = _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs,
+                                                         refs)
+            r_norm = np.abs(res).max()
+            backtracks += 1
+        r_norm_prev = r_norm
+        if not lu_ok:
+            if exact:
+                mat = np.zeros((nn, nn))
+                for i in range(n):
+                    e = 1e-7 * max(1.0, abs(vd[i]))
+                    vde = vd.copy()
+                    vde[i] += e
+                    mat[:, i] = (_ga_residual(plan, pr, pR, vde, lam, vd_n, a_n, v_n, h, coef, inputs, refs)[0]
+                                 - res) / e
+                mat[:n, n:] = jac.T
+            else:
+                kt, dt = tangents(plan, rr, RR, W, iw, vd, lam, refs)
+                s = mass + h * g * zeta * dt + h * h * b * zeta * kt
+                mat = saddle(s, jac)
+            if not factor_into(plan, mat, lu, piv):
+                return 2, iterations, False, vd, lam
+            lu_ok = True
+        dx = solve(plan, lu, piv, -res)
+        has_dx = True
+        vd = vd + dx[:n]
+        lam = lam + dx[n:]
+        iterations += 1
+        size = max(h * h * b, h * g) * zeta * np.abs(dx[:n]).max() if n else 0.0
+        if size <= 1e-2 * tol:
+            status = 0
+            break
+        if previous > 0:
+            theta = size / previous
+            if (theta < 1 and size * theta / (1 - theta) <= tol) or (theta > 0.5 and size <= 100 * tol):
+                status = 0
+                break
+            if theta > 0.3:
+                exact = exact or it >= 4
+                lu_ok = False
+        previous = size
+    keep = status == 0 and (not exact) and it < 3 and lu_ok
+    return status, iterations, keep, vd, lam
+
+
+@njit
+def ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
+    """Positions, velocities and algorithmic acceleration at the end of a converged step."""
+    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
+    a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
+    v1 = v_n + h * ((1 - g) * a_n + g * a1)
+    r1, R1 = retract(pr, pR, h * (v_n + h * ((0.5 - b) * a_n + b * a1)), plan[0])
+    return r1, R1, v1, a1
+
+
+@njit
+def start_acceleration(ip, fp, pr, pR, v, vdot, inputs, refs, h, delta):
+    """a = v' + Delta h v'' with v'' by a central difference along the motion (Index3._start_acceleration);
+    returns (a, stiff) with ``stiff`` when the shift is meaningless and a = v' was used."""
+    plan = unpack(ip, fp)
+    eps = 1e-5 * h
+    sel = plan[0]
+    fr, fR = retract(pr, pR, eps * v, sel)
+    br, bR = retract(pr, pR, -eps * v, sel)
+    ap = acceleration(plan, fr, fR, v + eps * vdot, inputs, refs)[0]
+    am = acceleration(plan, br, bR, v - eps * vdot, inputs, refs)[0]
+    correction = delta * h * (ap - am) / (2 * eps)
+    if np.abs(correction).max() > 0.5 * np.abs(vdot).max() + 1e-12:
+        return vdot.copy(), True
+    return vdot + correction, False
+
+
+@njit
+def committed(ip, fp, pr, pR, v, refs):
+    """Angle references after an accepted step."""
+    plan = unpack(ip, fp)
+    rr, RR, W = snapshot(pr, pR, v, plan[0])
+    return angle_references(plan, rr, RR, W, refs)
+
+
+# ---------------------------------------------------------------------------------------------- energy account
+
+
+@njit
+def powers(ip, fp, pr, pR, v, inputs, refs):
+    """(dissipated power, power supplied from outside) of the compiled elements and the input
+    (MultibodySimulator.powers; the compiled path has no drivers)."""
+    plan = unpack(ip, fp)
+    rr, RR, W = snapshot(pr, pR, v, plan[0])
+    diss = 0.0
+    supply = 0.0
+    for q in range(plan[13].shape[0]):
+        b = plan[13][q]
+        kd = plan[14][q]
+        w = W[b]
+        diss += _vdot(w, _matvec(kd[1], w))
+        sk = 0.5 * (kd[0] - kd[0].T)
+        if np.any(sk != 0.0):
+            phi = log_so3(RR[b])
+            x = np.empty(6)
+            x[:3] = rr[b] - plan[15][q]
+            x[3:] = phi
+            g = -_matvec(sk, x)
+            g[3:] = _tmatvec(left_jacobian_inverse(phi), g[3:])
+            supply += _vdot(g, w)
+    for e in range(plan[19].shape[0]):
+        s = plan[19][e]
+        par = plan[21][e]
+        value, rate, _ = coordinate(plan, s, rr, RR, W, refs[s])
+        x = value - par[3]
+        if par[4] == 0.0 and par[5] == 0.0 and par[6] == 0.0:
+            diss += par[1] * rate * rate
+        else:
+            diss += -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+        supply += par[2] * rate
+    return diss, supply + _vdot(inputs, v)
+
+
+# ---------------------------------------------------------------------------------------------- index-1 RKMK
+
+
+@njit
+def retract_full(pr, pR, d):
+    nb = pr.shape[0]
+    r1 = pr.copy()
+    R1 = np.empty_like(pR)
+    for b in range(nb):
+        r1[b] += d[6 * b:6 * b + 3]
+        R1[b] = _mm(exp_so3(d[6 * b + 3], d[6 * b + 4], d[6 * b + 5]), pR[b])
+    return r1, R1
+
+
+@njit
+def _local_rate(theta, wf):
+    """Translations as they are, rotations J_l(theta)^-1 w (mbd_fmu.integrators._local_rate)."""
+    out = wf.copy()
+    for b in range(theta.shape[0] // 6):
+        out[6 * b + 3:6 * b + 6] = _matvec(left_jacobian_inverse(theta[6 * b + 3:6 * b + 6]), wf[6 * b + 3:6 * b + 6])
+    return out
+
+
+@njit
+def project(plan, pr, pR, v, tol, max_iterations):
+    """Nearest consistent position (mass metric, Newton) and velocity (Index1.project); ok flag."""
+    sel = plan[0]
+    n = sel.shape[0]
+    rr, RR, W = snapshot(pr, pR, v, sel)
+    w = mass_matrix(plan, world_inertia(plan, RR))
+    converged = False
+    r = 0
+    jac = np.zeros((0, n))
+    for _ in range(max_iterations):
+        rr, RR, W = snapshot(pr, pR, v, sel)
+        phi, jac, _ = constraints(plan, rr, RR, W, True, False)
+        r = phi.shape[0]
+        if r == 0 or np.abs(phi).max() <= tol:
+            converged = True
+            break
+        lu, piv, ok = factor(plan, saddle(w, jac))
+        if not ok:
+            return pr, pR, v, False
+        rhs = np.zeros(n + r)
+        rhs[n:] = -phi
+        pr, pR = retract(pr, pR, solve(plan, lu, piv, rhs)[:n], sel)
+    if not converged:
+        return pr, pR, v, False
+    if r:
+        lu, piv, ok = factor(plan, saddle(w, jac))
+        rhs = np.zeros(n + r)
+        rhs[n:] = -_matvec(jac, v)
+        v = v + solve(plan, lu, piv, rhs)[:n]
+    return pr, pR, v, True
+
+
+@njit
+def rkmk_index1(ip, fp, pr, pR, v, vdot, inputs, refs, h, ta, tb, tol, max_iterations):
+    """One explicit RKMK step of the index-1 DAE, projection and the new consistent acceleration
+    (Index1.step): (ok, r, R, v, v', lambda, angle references)."""
+    plan = unpack(ip, fp)
+    sel = plan[0]
+    n = sel.shape[0]
+    nf = 6 * (pr.shape[0] + 1)
+    s = tb.shape[0]
+    kq = np.zeros((s, nf))
+    ky = np.zeros((s, n))
+    for j in range(s):
+        theta = np.zeros(nf)
+        yj = v.copy()
+        for l in range(j):
+            if ta[j, l] != 0.0:
+                theta += h * ta[j, l] * kq[l]
+                yj += h * ta[j, l] * ky[l]
+        if j == 0:
+            yd = vdot
+        else:
+            sr, sR = retract_full(pr, pR, theta)
+            yd = acceleration(plan, sr, sR, yj, inputs, refs)[0]
+        wf = np.zeros(nf)
+        for i in range(n):
+            wf[sel[i]] = yj[i]
+        kq[j] = _local_rate(theta, wf)
+        ky[j] = yd
+    theta = np.zeros(nf)
+    y = v.copy()
+    for l in range(s):
+        theta += h * tb[l] * kq[l]
+        y += h * tb[l] * ky[l]
+    r1, R1 = retract_full(pr, pR, theta)
+    r1, R1, v1, ok = project(plan, r1, R1, y, tol, max_iterations)
+    vd1, lam1 = acceleration(plan, r1, R1, v1, inputs, refs)
+    rr, RR, W = snapshot(r1, R1, v1, sel)
+    return ok, r1, R1, v1, vd1, lam1, angle_references(plan, rr, RR, W, refs)
+
+
+# ---------------------------------------------------------------------------------------------- outputs
+
+
+@njit
+def outputs(ip, fp, pr, pR, v, lam_kept, refs):
+    """Everything the FMU reports, in one call (MultibodySimulator's output methods): flat array of
+    displacements (N, 6) (cg translation from ``cg``, rotation vector), kinetic and potential energy, the largest
+    constraint residual over all rows, each joint's reaction force and moment about its point on body 2 (J, 6),
+    each compiled coordinate's value and rate (S, 2) and each spring's force (E,)."""
+    plan = unpack(ip, fp)
+    sel = plan[0]
+    nb = pr.shape[0]
+    rr, RR, W = snapshot(pr, pR, v, sel)
+    iw = world_inertia(plan, RR)
+    mass = mass_matrix(plan, iw)
+    energy = plan[30]
+    cg = energy[nb + 3:].reshape((nb, 3))
+    gravity = energy[nb:nb + 3]
+    static = plan[29]
+    n_joint = plan[27].shape[0]
+    n_coord = plan[16].shape[0]
+    n_spring = plan[19].shape[0]
+    out = np.zeros(6 * nb + 3 + 6 * n_joint + 2 * n_coord + n_spring)
+    potential = 0.0
+    for b in range(nb):
+        phi = log_so3(RR[b])
+        for k in range(3):
+            out[6 * b + k] = rr[b, k] - cg[b, k]
+            out[6 * b + 3 + k] = phi[k]
+            potential -= energy[b] * gravity[k] * rr[b, k] + static[b, k] * (rr[b, k] - cg[b, k])
+            potential -= static[b, 3 + k] * phi[k]
+    out[6 * nb] = 0.5 * _vdot(v, _matvec(mass, v))
+    for q in range(plan[13].shape[0]):
+        b = plan[13][q]
+        x = np.empty(6)
+        x[:3] = rr[b] - plan[15][q]
+        x[3:] = log_so3(RR[b])
+        ks = 0.5 * (plan[14][q, 0] + plan[14][q, 0].T)
+        potential += 0.5 * _vdot(x, _matvec(ks, x))
+    base = 6 * nb + 3 + 6 * n_joint
+    for c in range(n_coord):
+        value, rate, _ = coordinate(plan, c, rr, RR, W, refs[c])
+        out[base + 2 * c] = value
+        out[base + 2 * c + 1] = rate
+    for e in range(n_spring):
+        c = plan[19][e]
+        par = plan[21][e]
+        x = out[base + 2 * c] - par[3]
+        potential += 0.5 * par[0] * x * x
+        out[base + 2 * n_coord + e] = _law(par, x, out[base + 2 * c + 1])[0]
+    out[6 * nb + 1] = potential
+    # residuals of all rows and the joints' reactions from the kept rows' multipliers
+    kinds, bodies, vecs, c0, kept = plan[7], plan[8], plan[9], plan[10], plan[12]
+    worst = 0.0
+    for p in range(kinds.shape[0]):
+        bi, bj = bodies[p, 0], bodies[p, 1]
+        kind = kinds[p]
+        val = np.zeros(3)
+        blk = np.zeros((3, 12))
+        if kind == 0:
+            ai = _mv(RR[bi], vecs[p, 0])
+            aj = _mv(RR[bj], vecs[p, 1])
+            val = rr[bi] + ai - rr[bj] - aj
+            sj = _skew(aj)
+            for c in range(3):
+                blk[c, 6 + c] = -1.0
+                for k in range(3):
+                    blk[c, 9 + k] = sj[c, k]
+        elif kind == 1:
+            u = _mv(RR[bi], vecs[p, 0])
+            w = _mv(RR[bj], vecs[p, 1])
+            val[0] = _dot(u, w) - c0[p]
+            blk[0, 9:12] = -_cross(u, w)
+        else:
+            ai, aj, d, wi, wj, dd = _two_points(rr, RR, W, bi, bj, vecs[p, 0], vecs[p, 1])
+            if kind == 2:
+                nv = _mv(RR[bi], vecs[p, 2])
+                val[0] = _dot(nv, d) - c0[p]
+                blk[0, 6:9] = nv
+                blk[0, 9:12] = _cross(aj, nv)
+            else:
+                length = math.sqrt(_dot(d, d))
+                e = d / length
+                val[0] = length - c0[p]
+                blk[0, 6:9] = e
+                blk[0, 9:12] = _cross(aj, e)
+        rows = plan[11][p]
+        joint = plan[26][p]
+        for c in range(3):
+            if rows[c] < 0:
+                continue
+            worst = max(worst, abs(val[c]))
+            if joint >= 0 and kept[p, c] >= 0:
+                lk = lam_kept[kept[p, c]]
+                for k in range(6):
+                    out[6 * nb + 3 + 6 * joint + k] -= blk[c, 6 + k] * lk
+    out[6 * nb + 2] = worst
+    for j in range(n_joint):
+        b2 = plan[27][j]
+        o = 6 * nb + 3 + 6 * j
+        arm = -_mv(RR[b2], plan[28][j])  # cg minus the joint point
+        f = out[o:o + 3].copy()
+        out[o + 3:o + 6] += _cross(arm, f)
+    return out

@@ -1,0 +1,146 @@
+"""The compiled path of the multibody model (mbd_fmu.fast, mbd_fmu.kernels) against the Python path.
+
+The physics of both paths is tested by the mechanism and element tests (they run on the compiled path
+whenever the model is covered); here: the two paths take the same steps for every joint kind, closed
+and redundant loops, point masses and every compiled element kind (to the Newton tolerance: they
+evaluate the same equations in a different order of operations), models the compiled path does not
+cover fall back to the Python path, and the compiled kernels are reused from the on-disk cache by
+sources in another folder (an FMU's extraction folder).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mbd_fmu.bodies import RigidBody
+from mbd_fmu.coordinates import Angle, Distance, Slide
+from mbd_fmu.fast import compiled_model, unsupported
+from mbd_fmu.force_elements import CoordinateSpringDamper, CoulombFriction, PtoLaw, Rope
+from mbd_fmu.formulations import Settings
+from mbd_fmu.joints import Driver, Harmonic, Joint
+from mbd_fmu.model import MultibodyModel
+from mbd_fmu.moorings import LinearMooring
+from mbd_fmu.simulator import MultibodySimulator
+
+from .mechanisms import G, bricard, double_four_bar, hexagon_loop, point_pendulum, rod, rod_pendulum
+
+ROOT = Path(__file__).resolve().parent.parent
+KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
+
+
+def two_bodies(kind: str) -> tuple[MultibodyModel, object, np.ndarray]:
+    """A floating body on a mooring and a rod hanging from it by a joint of ``kind``, a nonlinear PTO between
+    them, released moving (every compiled element kind, rotations about all axes)."""
+    top = RigidBody("top", 50.0, np.diag([4.0, 5.0, 6.0]), np.array([0.0, 0.0, 0.0]))
+    link = rod("link", [0.3, 0.1, -1.0], [0.3, 0.1, -1.0], mass=5.0, length=1.5)
+    joint = Joint("j", kind, "top", "link", (0.0, 0.0, -0.2), (0.3, 1.0, 0.2), (1.0, 0.0, -1.5) if kind == "universal"
+                  else None, (0.15, 0.05, -0.5) if kind == "distance" else None)
+    model = MultibodyModel([top, link], [joint], gravity=(0, 0, -G), static_loads={"top": [0, 0, 55 * G, 0, 0, 0]})
+    k = np.diag([2e3, 2e3, 5e3, 3e3, 3e3, 1e3])
+    on_axis = np.array([-0.15, -0.05, 0.5])  # a point of the rod's axis (its spin inertia is tiny)
+    pto = CoordinateSpringDamper("pto", Distance(0, 1, np.array([0.2, 0, 0.1]), on_axis), 300.0, 40.0, 5.0, 1.2,
+                                 PtoLaw(friction=3.0, quadratic=10.0, force_limit=400.0))
+    slide = CoordinateSpringDamper("slide", Slide(model.ground, 1, np.array([1.0, 0, 0]), model.cg[1].copy(),
+                                                  np.zeros(3)), 50.0, 5.0)
+    model.elements = [LinearMooring("m", 0, k, 0.1 * k, model.cg[0].copy()), pto, slide]
+    if kind in ("revolute", "cylindrical", "planar"):
+        angle = next(c for c in model.joints[0].coordinates if isinstance(c, Angle))
+        model.elements.append(CoordinateSpringDamper("rot", angle, 20.0, 2.0, 0.0, 0.0))
+    v = np.zeros(model.n)
+    v[model.slot_of("top", 3)], v[model.slot_of("top", 2)] = 0.3, 0.2
+    return model, model.reference.copy(), v
+
+
+def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: bool = True):
+    out = build()
+    model, pose = out[0], out[1]
+    v = out[2] if len(out) > 2 else np.zeros(model.n)
+    sim = MultibodySimulator(model, Settings(formulation, spectral_radius=0.8))
+    if not compiled:
+        sim.formulation.python_path = True
+    sim.start(pose, v)
+    forced = np.array([dof < 3 for _, dof in model.coordinates])  # wave-like forces on the translations
+    for k in range(steps):
+        f = forced * np.sin(3.0 * k * h + np.arange(model.n)) if inputs else None
+        sim.advance(h, f)
+    return sim
+
+
+@pytest.mark.parametrize("formulation", ["index3", "index1"])
+@pytest.mark.parametrize("kind", KINDS)
+def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> None:
+    fast = run(lambda: two_bodies(kind), formulation, True, 40, 0.01)
+    slow = run(lambda: two_bodies(kind), formulation, False, 40, 0.01)
+    assert fast.formulation.compiled is not None and slow.formulation.compiled is None
+    a, b = fast.formulation, slow.formulation
+    # each step converges to 1e-10 of max(1 m, largest velocity) on either path; 40 steps
+    assert np.max(np.abs(a.pose.r - b.pose.r)) < 1e-8
+    assert np.max(np.abs(a.pose.R - b.pose.R)) < 1e-8
+    assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
+    assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
+    assert fast.energy()["balance"] == pytest.approx(slow.energy()["balance"], abs=1e-6 * max(1.0, slow.work))
+
+
+@pytest.mark.parametrize("build", [point_pendulum, rod_pendulum, double_four_bar, hexagon_loop, bricard],
+                         ids=["point_mass", "rod", "double_four_bar", "hexagon", "bricard"])
+def test_closed_loops_and_point_masses_on_both_paths(build) -> None:
+    fast = run(build, "index3", True, 200, 2e-3, inputs=False)
+    slow = run(build, "index3", False, 200, 2e-3, inputs=False)
+    assert fast.formulation.compiled is not None
+    assert np.max(np.abs(fast.formulation.pose.r - slow.formulation.pose.r)) < 1e-8
+    assert fast.constraint_violation() < 1e-9
+
+
+def test_models_the_compiled_path_does_not_cover_run_on_the_python_path() -> None:
+    model, pose = rod_pendulum()
+    angle = model.joints[0].coordinates[0]
+    model.elements = [CoulombFriction("f", angle, 0.5), Rope("r", Distance(model.ground, 0, np.zeros(3),
+                                                                          np.array([0, 0, -0.5])), 100.0, 0.0, 2.0)]
+    model.drivers = []
+    assert [s.split(" (")[0] for s in unsupported(model)] == ["force element 'f'", "force element 'r'"]
+    assert compiled_model(model) is None
+    sim = MultibodySimulator(model, Settings("index3"))
+    sim.start(pose, np.zeros(model.n))
+    sim.advance(0.01)
+    assert sim.formulation.compiled is None and sim.time == pytest.approx(0.01)
+    model2, pose2 = rod_pendulum()
+    model2.drivers.append(Driver("d", angle, Harmonic(0.1, 1.0)))
+    model2.m += 1
+    assert unsupported(model2) == ["prescribed motion (drivers)"]
+
+
+def test_no_jit_environment_variable_selects_the_python_path(monkeypatch) -> None:
+    monkeypatch.setenv("WEC_COSIM_NO_JIT", "1")
+    model, _ = rod_pendulum()
+    assert compiled_model(model) is None
+
+
+def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path) -> None:
+    """An FMU runs the package from a fresh extraction folder: the kernels compiled for the same sources are
+    loaded from the on-disk cache (no new cache entries appear), not compiled again."""
+    cache = tmp_path / "cache"
+    script = ("import numpy as np, sys; sys.path.insert(0, sys.argv[1]); import mbd_fmu.kernels as k;"
+              "assert k.__file__.startswith(sys.argv[1]), k.__file__;"
+              "print(k.exp_so3(0.1, 0.2, 0.3)[0, 0])")
+    env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
+    env.pop("WEC_COSIM_NO_JIT", None)
+    outputs = []
+    entries = []
+    for name in ("first", "second"):
+        folder = tmp_path / name
+        shutil.copytree(ROOT / "mbd_fmu", folder / "mbd_fmu", ignore=shutil.ignore_patterns("__pycache__"))
+        proc = subprocess.run([sys.executable, "-c", script, str(folder)], capture_output=True, text=True, env=env,
+                              timeout=600)
+        assert proc.returncode == 0, proc.stderr
+        outputs.append(proc.stdout)
+        entries.append(sorted(p.name for p in (cache / "numba").rglob("*") if p.is_file()))
+    assert outputs[0] == outputs[1]
+    assert any(e.endswith(".nbi") for e in entries[0])
+    assert entries[1] == entries[0]
