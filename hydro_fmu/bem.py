@@ -28,6 +28,7 @@ import numpy as np
 from .bem_symmetry import MIRROR_XOZ, check_invariant, rotation_symmetric_system, symmetry_group
 from .bemio import read_bemio, write_bemio
 from .hdb import HydroDatabase, HydroDatabaseError
+from .hydrostatics import hull_hydrostatics
 from .meshes import SurfaceMesh, check_mesh, euler_xyz, from_capytaine, read_mesh, to_capytaine
 from .prism_mesh import regular_prism_mesh
 
@@ -258,8 +259,11 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
         # Capytaine exp(-i w t) -> exp(+i w t): complex conjugate.
         return np.conj(da.transpose("wave_direction", "omega", "influenced_dof").sel(influenced_dof=dofs).values)
 
-    static = [_hydrostatic_body(b, cb) for b, cb in zip(bodies, cpt_bodies, strict=True)]
-    stiffness = np.stack([cb.compute_hydrostatic_stiffness(rho=settings.rho, g=settings.g).values for cb in static])
+    # Volume, centre of buoyancy and restoring matrix by the z form of the divergence theorem
+    # (hull_hydrostatics): the same as Capytaine's for closed hulls, and right for hulls open along
+    # vertical faces where they touch another body (F3OF), where Capytaine's average of the three forms is not.
+    statics = [hull_hydrostatics(body_mesh(b.geometry).immersed_part(), b.cg, settings.rho, settings.g)
+               for b in bodies]
     hdb = HydroDatabase(
         body_names=[b.name for b in bodies],
         omega=omega,
@@ -270,10 +274,10 @@ def compute_database(bodies: list[BemBody], settings: BemSettings, log=None,
         excitation=forces(ds["excitation_force"]),
         froude_krylov=forces(ds["Froude_Krylov_force"]),
         diffraction=forces(ds["diffraction_force"]),
-        hydrostatic_stiffness=stiffness,
+        hydrostatic_stiffness=np.stack([k for _, _, k in statics]),
         cg=np.array([b.cg for b in bodies], dtype=float),
-        cb=np.array([np.asarray(cb.center_of_buoyancy) for cb in static]),
-        displaced_volume=np.array([cb.volume for cb in static]),
+        cb=np.array([cb for _, cb, _ in statics]),
+        displaced_volume=np.array([v for v, _, _ in statics]),
         rho=settings.rho,
         g=settings.g,
         water_depth=settings.water_depth,
@@ -350,19 +354,6 @@ def _floating_body(body: BemBody, symmetry: str = "none"):
         center_of_mass=body.cg,
         name=body.name,
     )
-
-
-def _hydrostatic_body(body: BemBody, bem_body):
-    """The body whose hydrostatics go into the database: the BEM body, or for an axisymmetric hull with dry
-    segments the closed hull (its dry stretches carry the pressure the neighbour transmits)."""
-    g = body.geometry
-    if g.shape != "axisymmetric" or not g.dry_segments:
-        return bem_body
-    import capytaine as cpt
-
-    closed = _placed(mesh_of_revolution(g.profile, g.panel_size), g).immersed_part()
-    return cpt.FloatingBody(mesh=closed, dofs=cpt.rigid_body_dofs(rotation_center=body.cg), center_of_mass=body.cg,
-                            name=body.name)
 
 
 def _axisymmetric_lid(g: BodyGeometry):
