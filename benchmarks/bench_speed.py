@@ -116,7 +116,7 @@ def run_ours(build, formulation: str, h: float, steps: int, compiled: bool = Tru
     model, pose, v = build()
     sim = MultibodySimulator(model, Settings(formulation, spectral_radius=RHO))
     if not compiled:
-        sim.formulation._compiled = None
+        sim.formulation.python_path = True
     sim.start(pose, v)
     clock = _Clock()
     for k in range(steps):

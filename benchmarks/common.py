@@ -43,3 +43,24 @@ def physics_loop(hydro, system, h: float, steps: int, record: bool = False):
             out.append(system.q.copy())
     elapsed = time.perf_counter() - start
     return (np.array(out) if record else None), elapsed
+
+
+def pyplot():
+    """matplotlib.pyplot on the file-only backend."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_figure(fig, target) -> None:  # noqa: ANN001
+    """Lay out, write the PNG (folders created), close the figure and say where it went."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    Path(target).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    print(f"figure: {target}")

@@ -31,6 +31,7 @@ from xml.etree.ElementTree import Element, SubElement
 
 import numpy as np
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
 from . import state_codec
@@ -72,6 +73,11 @@ _BASE_UNITS: dict[str, dict[str, int]] = {
     "N.s/m": {"kg": 1, "s": -1},
     "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
     "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
+    "N/rad": {"kg": 1, "m": 1, "s": -2, "rad": -1},
+    "N.s/rad": {"kg": 1, "m": 1, "s": -1, "rad": -1},
+    "N.s": {"kg": 1, "m": 1, "s": -1},
+    "N/s": {"kg": 1, "m": 1, "s": -3},
+    "N.m/s": {"kg": 1, "m": 2, "s": -3},
     "W": {"kg": 1, "m": 2, "s": -3},
     "J": {"kg": 1, "m": 2, "s": -2},
 }
@@ -206,7 +212,9 @@ class VectorSlave(Fmi2Slave):
             "parameter": Fmi2Variability.fixed,
             "calculatedParameter": Fmi2Variability.fixed,
         }.get(causality, Fmi2Variability.continuous)
-        initial = Fmi2Initial.exact if causality in ("input", "parameter") else None
+        # FMI 2.0 (table of section 2.2.7): a parameter is "exact" (the default), an input takes no initial
+        # attribute at all (its start value is required and written); libcosim rejects initial="exact" there.
+        initial = Fmi2Initial.exact if causality == "parameter" else None
         for i, name in enumerate(names):
             var = Real(
                 name,
@@ -226,6 +234,13 @@ class VectorSlave(Fmi2Slave):
                 self._output_deps[var.value_reference] = depends_on
         self._arrays[key] = values
         return values
+
+    def set_default_experiment(self, spec: dict[str, Any]) -> None:
+        """``DefaultExperiment`` from the scene specification's ``experiment`` (start, stop, step in s): what
+        ``fmpy.simulate_fmu(fmu)`` and other hosts use when not told otherwise."""
+        e = spec.get("experiment")
+        if e:
+            self.default_experiment = DefaultExperiment(start_time=e["start"], stop_time=e["stop"], step_size=e["step"])
 
     def array(self, key: str) -> np.ndarray:
         return self._arrays[key]

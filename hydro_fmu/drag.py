@@ -45,3 +45,7 @@ class ViscousForce:
     def __call__(self, v: np.ndarray) -> np.ndarray:
         """Force (N, N m) for velocity ``v`` (m/s, rad/s)."""
         return -self.linear * v - self.quadratic * np.abs(v) * v
+
+    def tangent(self, v: np.ndarray) -> np.ndarray:
+        """dF/dv (n,), the diagonal of the Jacobian: -(b + 2 q |v|)."""
+        return -self.linear - 2.0 * self.quadratic * np.abs(v)

@@ -340,8 +340,9 @@ def check_mesh(mesh: SurfaceMesh, body: str, cg: np.ndarray | tuple[float, float
         report.warnings.append(
             "the wetted surface is not closed (with the waterplane): the volume from the x, y and z forms of the "
             f"divergence theorem differs ({', '.join(f'{v:.4g}' for v in volumes)} m^3), so hydrostatics and the "
-            "centre of buoyancy depend on the formula used (Capytaine averages them; here the z form, which the "
-            "missing waterplane does not affect, is used)")
+            "centre of buoyancy depend on the formula used (Capytaine averages them; the database and this check use "
+            "the z form, which neither the missing waterplane nor openings in vertical faces affect: right where "
+            "the body touches another one, wrong for a real hole)")
     if volume <= 0:
         report.errors.append(
             f"the enclosed volume is {volume:.4g} m^3: the panel normals point into the body; reverse the "

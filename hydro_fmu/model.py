@@ -29,6 +29,7 @@ from .drag import ViscousCoefficients, ViscousForce
 from .excitation import ExcitationConvolution, ExcitationForce
 from .hdb import DOF_NAMES, HydroDatabase
 from .hydrostatics import LinearHydrostatics
+from .linearisation import AffineForce, CouplingPattern, MemoryRate
 from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
@@ -176,6 +177,7 @@ class HydroModel:
                         and options.viscous.active else None)
         self.report = RadiationReport(options.radiation_method)
         self.radiation = self._radiation() if switches.radiation else None
+        self._memory_rate = MemoryRate()
 
     # ------------------------------------------------------------------ construction
     @property
@@ -274,6 +276,52 @@ class HydroModel:
             if o.nonlinear_froude_krylov and sw.excitation:
                 exc = exc + fk
         return HydroForces(total=exc + rad + hs + visc, excitation=exc, radiation=rad, hydrostatic=hs, viscous=visc)
+
+    def affine(self, t: float, x: np.ndarray, v: np.ndarray, pattern: CouplingPattern,
+               forces: HydroForces | None = None) -> AffineForce:
+        """The affine model of the force over the next step about (t, x, v), with the tangents restricted to
+        ``pattern`` (:mod:`hydro_fmu.linearisation`); ``forces``: :meth:`forces` at the same point if known.
+        Call it at every communication point: the memory rate is the difference between the last two calls
+        at different times."""
+        n = self.n
+        f = forces if forces is not None else self.forces(t, x, v)
+        dfdx = np.zeros((n, n))
+        dfdv = np.zeros((n, n))
+        o, sw = self.options, self.switches
+        if sw.hydrostatics and not o.nonlinear_hydrostatics:
+            dfdx -= self.hydrostatics.stiffness
+        if self.nonlinear:
+            dfdx += self._pressure_tangent(t, x)
+        rate = self.excitation.rate(t) if self.excitation is not None else np.zeros(n)
+        if self.nonlinear and o.nonlinear_froude_krylov and sw.excitation:
+            delta = 1e-4
+            ahead, behind = self._pressure_forces(t + delta, x)[1], self._pressure_forces(t - delta, x)[1]
+            rate = rate + (ahead - behind) / (2 * delta)
+        if self.radiation is not None:
+            d = self.radiation.instantaneous_damping()
+            dfdv -= d
+            known = -f.radiation - d @ v  # memory of the committed velocities (mu = -F_rad), without v's share
+            rate = rate - self._memory_rate.update(t, known)
+        if self.viscous is not None:
+            dfdv += np.diag(self.viscous.tangent(v))
+        dfdx = np.where(pattern.mask(n, "stiffness"), dfdx, 0.0)
+        dfdv = np.where(pattern.mask(n, "damping"), dfdv, 0.0)
+        return AffineForce(f.total - dfdx @ x - dfdv @ v, rate, dfdx, dfdv)
+
+    def _pressure_tangent(self, t: float, x: np.ndarray, delta: float = 1e-6) -> np.ndarray:
+        """d(F_hs + F_FK)/dx of the nonlinear pressure forces by central differences within each body."""
+        n = self.n
+        out = np.zeros((n, n))
+        start = 0
+        for dofs in self.dofs:
+            for j in range(start, start + len(dofs)):
+                e = np.zeros(n)
+                e[j] = delta
+                fp = sum(self._pressure_forces(t, x + e))
+                fm = sum(self._pressure_forces(t, x - e))
+                out[start:start + len(dofs), j] = (fp - fm)[start:start + len(dofs)] / (2 * delta)
+            start += len(dofs)
+        return out
 
     def _pressure_forces(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Nonlinear hydrostatic and Froude-Krylov forces on the selected DOFs."""

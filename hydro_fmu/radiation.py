@@ -167,6 +167,7 @@ class RadiationMemory:
         weights[0] = weights[-1] = dt / 2
         w = kernel * weights[:, None, None]
         self._k0 = w[0]  # weight of the current velocity
+        self._weights = w  # (m, n, n): weight of the velocity j grid steps ago
         # History weights, oldest first, as one (n, (m-1) n) matrix for a single mat-vec.
         self._past = np.ascontiguousarray(np.transpose(w[1:][::-1], (1, 0, 2)).reshape(n, (m - 1) * n))
         # Double-length ring buffer: the last m-1 grid velocities are always contiguous.
@@ -191,6 +192,16 @@ class RadiationMemory:
     def force(self, v_now: np.ndarray) -> np.ndarray:
         """mu at the current time given the current velocity (N; the radiation force is -mu)."""
         return self._past @ self._window(v_now).reshape(-1) + self._k0 @ v_now
+
+    def instantaneous_damping(self) -> np.ndarray:
+        """d mu / d v_now (n, n), N s/m: the weight of the current velocity in :meth:`force`, the current
+        point's own trapezoidal weight K(0) dt / 2 plus its share of the points interpolated since the
+        last commit (for a step of q grid steps, sum over lags l < q of (1 - l/q) K(l dt) dt)."""
+        q = self.gap
+        d = self._k0.copy()
+        for lag in range(1, min(q, self.m)):
+            d += (1.0 - lag / q) * self._weights[lag]
+        return d
 
     def _push(self, v: np.ndarray) -> None:
         k = self.m - 1

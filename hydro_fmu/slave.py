@@ -9,6 +9,9 @@ active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects
   ``wave.elevation`` at the origin; ``energy.excitation_work``, ``energy.radiation_work``,
   ``energy.hydrostatic_work``, ``energy.viscous_work``: work (J) of each part on the bodies since
   the start (:mod:`hydro_fmu.work`, trapezoidal rule over the communication points);
+* outputs of the linearised force interface (:mod:`hydro_fmu.linearisation`, :mod:`fmu_base.coupling`):
+  ``b.F0[i]``, ``b.F0_rate[i]``, ``dF_dx[k,l]``, ``dF_dv[k,l]`` (the pattern's entries only), for
+  plain fixed-step hosts;
 * calculated parameters ``A_inf[k,l]``: infinite-frequency added mass between scene degrees of
   freedom k and l (k = 6 (body index) + i), to be copied into the multibody FMU; and the
   radiation model's report ``radiation.order``, ``radiation.fit_error``,
@@ -21,7 +24,7 @@ active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects
 The scene (bodies, active DOFs, sea, methods) is fixed at build time in ``scene_spec.json``, the
 database in the BEMIO file next to it, and imported wave data and hull meshes beside them, all in
 the FMU's resources. The model is built when the FMU is instantiated and rebuilt at the end of
-initialisation if a parameter changed.
+initialisation if a parameter changed. ``DefaultExperiment``: the scenario's duration and step.
 """
 
 from __future__ import annotations
@@ -34,10 +37,12 @@ import numpy as np
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
+from fmu_base.coupling import coupling_variables
 from fmu_base.slave import VectorSlave, load_spec, matrix_names
 
 from .bemio import read_bemio
 from .drag import ViscousCoefficients
+from .linearisation import CouplingPattern
 from .meshes import read_meshes
 from .model import ForceSwitches, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
@@ -61,12 +66,26 @@ WAVE_PARAMETERS = {
 }
 
 
+class StepClock:
+    """Communication points t = t_a + k h counted from the last change of step (no accumulated round-off,
+    the same in every host that passes the same step sizes)."""
+
+    def __init__(self, start: float = 0.0) -> None:
+        self.anchor, self.step, self.count = float(start), 0.0, 0
+
+    def advance(self, h: float) -> float:
+        if h != self.step:
+            self.anchor, self.step, self.count = self.anchor + self.count * self.step, float(h), 0
+        self.count += 1
+        return self.anchor + self.count * self.step
+
+
 class HydroSlave(VectorSlave):
     """Hydrodynamic forces of a scene's bodies (Cummins equation, linear potential flow)."""
 
     author = "wec-cosim"
     description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics, drag"
-    state_attributes = ("model", "time", "work", "_power")
+    state_attributes = ("model", "time", "clock", "work", "_power")
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -83,8 +102,11 @@ class HydroSlave(VectorSlave):
         self.time = 0.0
         self.work = WorkAccount()
         self._power = np.zeros(len(COMPONENTS))
+        self.clock = StepClock()
+        self.set_default_experiment(self.spec)
         self._register_parameters()
         self._register_body_variables()
+        self._register_coupling()
         self._register_added_mass()
         self._register_report()
         try:  # built now so that the calculated parameters are right from the start
@@ -146,6 +168,25 @@ class HydroSlave(VectorSlave):
             if present:
                 self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
                                description=desc, depends_on=deps)
+
+    def _register_coupling(self) -> None:
+        """Outputs of the linearised force interface (fmu_base.coupling), if the scene lists its pattern."""
+        self.pattern = CouplingPattern.from_json(self.spec["coupling"]) if "coupling" in self.spec else None
+        if self.pattern is None:
+            return
+        coords = [(b, d) for b, ds in zip(self.body_names, self.dofs, strict=True) for d in ds]
+        labels = [6 * i + d + 1 for i, ds in enumerate(self.dofs) for d in ds]
+        nonlinear = self.spec.get("nonlinear", {})
+        position = ("x",) if nonlinear.get("hydrostatics") or nonlinear.get("froude_krylov") else ()
+        viscous = self.spec.get("viscous")
+        velocity = ("v",) if viscous is not None and any(viscous["quadratic"]) and self.switches.viscous else ()
+        deps = {"F0": position + velocity, "F0_rate": ("x",) if nonlinear.get("froude_krylov") else (),
+                "dF_dx": position, "dF_dv": velocity}
+        for group in coupling_variables(coords, labels, self.pattern.stiffness, self.pattern.damping):
+            self.add_reals(group.key, group.names, "output", np.zeros(len(group.names)), unit=group.units,
+                           description=group.description, depends_on=deps[group.key])
+        self._pattern_index = {key: tuple(np.array(getattr(self.pattern, key), dtype=int).reshape(-1, 2).T)
+                               for key in ("stiffness", "damping")}
 
     def _register_added_mass(self) -> None:
         index = [6 * b + d for b, ds in enumerate(self.dofs) for d in ds]
@@ -221,6 +262,7 @@ class HydroSlave(VectorSlave):
     # ------------------------------------------------------------------ FMI life cycle
     def setup_experiment(self, start_time: float, stop_time: float | None, tolerance: float | None) -> None:
         self.time = float(start_time)
+        self.clock = StepClock(self.time)
 
     def exit_initialization_mode(self) -> None:
         try:
@@ -235,8 +277,15 @@ class HydroSlave(VectorSlave):
 
     def update_outputs(self) -> None:
         assert self.model is not None
-        f = self.model.forces(self.time, self.array("x"), self.array("v"))
+        x, v = self.array("x"), self.array("v")
+        f = self.model.forces(self.time, x, v)
         self.array("F")[:] = f.total
+        if self.pattern is not None:
+            a = self.model.affine(self.time, x, v, self.pattern, f)
+            self.array("F0")[:] = a.constant
+            self.array("F0_rate")[:] = a.rate
+            self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
+            self.array("dF_dv")[:] = a.dfdv[self._pattern_index["damping"]]
         for key, value in (("F_exc", f.excitation), ("F_rad", f.radiation), ("F_hs", f.hydrostatic),
                            ("F_visc", f.viscous)):
             if key in self._arrays:
@@ -249,12 +298,16 @@ class HydroSlave(VectorSlave):
         if self._outputs_stale:  # the power at this point (its inputs set, outputs maybe not read)
             self.update_outputs()
             self._outputs_stale = False
-        self.work.commit(current_time, self._power)
+        self.work.commit(self.time, self._power)  # the FMU's own clock (below)
         try:
             self.model.advance(current_time, step_size, self.array("v").copy())
         except ValueError as exc:
             self.log(str(exc), Fmi2Status.error)
             return False
-        self.time = current_time + step_size
+        # The FMU's own clock, not the host's current_time + step_size: hosts compute the communication point
+        # differently (fmpy adds the step, libcosim counts nanoseconds, a C loop multiplies), and a last-bit
+        # difference in the excitation's time must not make the answer depend on the host (advance() has
+        # checked that current_time agrees with this clock).
+        self.time = self.clock.advance(step_size)
         self.mark_outputs_stale()
         return True

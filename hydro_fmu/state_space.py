@@ -331,6 +331,10 @@ class StateSpaceMemory:
         self.w[self.r + self.n :] = v_now
         return self._update(self.pending)[1] @ self.w
 
+    def instantaneous_damping(self) -> np.ndarray:
+        """d mu / d v_now (n, n), N s/m: C G1 of the step since the last commit (about K(0) h / 2)."""
+        return self._update(self.pending)[1][:, self.r + self.n :].copy()
+
     def step(self, v_now: np.ndarray, h: float) -> None:
         """Commit the current velocity and move ``h`` seconds on (any h > 0)."""
         if not h > 0:

@@ -38,6 +38,12 @@ class Ramp:
             return 1.0
         return 0.5 * (1.0 - math.cos(math.pi * max(t, 0.0) / self.duration))
 
+    def rate(self, t: float) -> float:
+        """dr/dt (1/s) at time ``t`` (s)."""
+        if self.duration <= 0 or t >= self.duration or t <= 0:
+            return 0.0
+        return 0.5 * math.pi / self.duration * math.sin(math.pi * t / self.duration)
+
 
 @dataclass(frozen=True)
 class WaveComponents:

@@ -30,6 +30,7 @@ import numpy as np
 
 from .coordinates import Coordinate
 from .kinematics import Kin
+from .rotations import log_so3
 
 
 @dataclass(frozen=True)
@@ -93,6 +94,10 @@ class ForceElement:
     def output(self, k: Kin) -> np.ndarray:
         """Force components reported as FMU outputs."""
         return np.zeros(0)
+
+    def start(self, k: Kin) -> None:
+        """Once, at the assembled initial state, before the first force evaluation (elements with
+        their own dynamics, e.g. MoorDyn lines, set up their initial state here)."""
 
     def commit(self, k: Kin) -> None:
         """After an accepted step."""
@@ -293,3 +298,79 @@ class CoulombFriction(ForceElement):
 
     def commit(self, k: Kin) -> None:
         self.coordinate.commit(k)
+
+
+class LinearisedInputForce(ForceElement):
+    """An external force given as an affine model over the macro step (the linearised force interface of
+    ``hydro_fmu.linearisation``), on chosen body degrees of freedom:
+
+        F = F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v,
+
+    ``x`` the displacement from equilibrium (cg translation, rotation vector; as the ``<b>.x[i]``
+    outputs), ``v`` the world-frame velocity, t_n the start of the macro step. Its tangent
+    (-dF_dx, -dF_dv) enters the formulations' Newton matrix, so the motion-dependent part is
+    integrated implicitly with the rest of the model. The power it delivers counts as external
+    work in the energy account, as the held force input's does.
+
+    Args:
+        bodies: body index of each degree of freedom (m,).
+        dofs: DOF of each (0 surge ... 5 yaw).
+        cg: (N, 3) equilibrium centres of gravity.
+    """
+
+    name = "linearised_input"
+
+    def __init__(self, bodies: np.ndarray, dofs: np.ndarray, cg: np.ndarray) -> None:
+        self.bodies = np.asarray(bodies, dtype=int)
+        self.dofs = np.asarray(dofs, dtype=int)
+        self.cg = np.asarray(cg, dtype=float)
+        self.cols = 6 * self.bodies + self.dofs
+        m = len(self.cols)
+        self.constant, self.rate = np.zeros(m), np.zeros(m)
+        self.dfdx, self.dfdv = np.zeros((m, m)), np.zeros((m, m))
+        self.t0 = 0.0
+        self.active = False
+        self._rotating = self.dofs >= 3
+        self._rot_bodies = self.bodies[self._rotating]
+
+    def set(self, t0: float, constant: np.ndarray, rate: np.ndarray, dfdx: np.ndarray, dfdv: np.ndarray) -> bool:
+        """Hold a new affine model from ``t0`` (s); returns True if anything but the start time changed."""
+        new = [np.asarray(a, dtype=float) for a in (constant, rate, dfdx, dfdv)]
+        changed = not all(np.array_equal(a, b) for a, b in zip(new, (self.constant, self.rate, self.dfdx, self.dfdv),
+                                                                  strict=True))
+        self.constant, self.rate, self.dfdx, self.dfdv = (a.copy() for a in new)
+        changed = changed or (bool(np.any(self.rate)) and t0 != self.t0)
+        self.t0 = float(t0)
+        self.active = bool(np.any(self.constant) or np.any(self.rate) or np.any(self.dfdx) or np.any(self.dfdv))
+        return changed
+
+    def motion(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(x, v) on the element's degrees of freedom."""
+        x = np.empty(len(self.cols))
+        trans = ~self._rotating
+        x[trans] = k.rr[self.bodies[trans], self.dofs[trans]] - self.cg[self.bodies[trans], self.dofs[trans]]
+        if self._rot_bodies.size:
+            x[self._rotating] = log_so3(k.RR[self._rot_bodies])[np.arange(self._rot_bodies.size),
+                                                                  self.dofs[self._rotating] - 3]
+        return x, k.W[self.bodies, self.dofs]
+
+    def force(self, k: Kin) -> np.ndarray:
+        x, v = self.motion(k)
+        return self.constant + self.rate * (k.t - self.t0) + self.dfdx @ x + self.dfdv @ v
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        if self.active:
+            f[self.cols] += self.force(k)
+
+    def tangent(self, k: Kin) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        if not self.active:
+            return None
+        return self.cols, -self.dfdx, -self.dfdv
+
+    def powers(self, k: Kin) -> tuple[float, float]:
+        if not self.active:
+            return 0.0, 0.0
+        return 0.0, float(self.force(k) @ k.W[self.bodies, self.dofs])
+
+    def supply(self, k: Kin) -> float:
+        return self.powers(k)[1]

@@ -140,6 +140,7 @@ class Formulation:
         self._row_search: tuple[int, float] | None = None  # (step, best row quality) of the last search
         self._quality: tuple[int, float] | None = None  # (step, kept rows' quality) after a compiled step
         self._compiled: CompiledModel | None | bool = False  # False: not looked at yet
+        self.python_path = False  # True: never use the compiled path (comparisons, benchmarks)
 
     def __getstate__(self) -> dict:
         """The compiled plan is derived from the model: not saved, rebuilt after a restore."""
@@ -149,9 +150,20 @@ class Formulation:
 
     @property
     def compiled(self) -> CompiledModel | None:
-        """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path."""
-        if self._compiled is False:
-            self._compiled = compiled_model(self.model)
+        """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path; looked at again
+        when elements or drivers are added to the model (e.g. an FMU's input-force element after the start)."""
+        if self.python_path:
+            return None
+        m = self.model
+        signature = (len(m.elements), type(m.elements[-1]).__name__ if m.elements else "", len(m.drivers))
+        changed = signature != getattr(self, "_signature", None)
+        if self._compiled is False or changed:
+            # after a restore the plan is rebuilt from the same model: the saved factors stay valid (a restored
+            # run repeats the original bit for bit); a changed model drops them
+            self._compiled = compiled_model(m)
+            self._signature = signature
+            if changed:
+                self._lu_key = None
         return self._compiled
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:

@@ -9,13 +9,22 @@ with M the block-diagonal rigid-body mass matrix, A_inf the infinite-frequency a
 (full matrix between the hydrodynamic bodies' coordinates, cross-body blocks included), F the
 external force input (from the hydrodynamics FMU) and u_pto the PTOs' commanded forces. PTO
 stiffness, damping and force commands may change between steps (:meth:`set_pto_commands`).
+
+The external force may be given as an affine model over the step (the linearised force interface,
+``hydro_fmu.linearisation``): F(t) = F_n + F_rate (t - t_n) + dF_dx q + dF_dv q' with the
+Jacobians on the hydrodynamic coordinates (:meth:`set_force_tangents`). The Jacobians join the
+system matrix (K_pto - dF_dx, C_pto - dF_dv), so they are integrated exactly, like the PTO; the
+ramp F_rate enters through the first-order-hold input matrix. Step matrices are cached per
+(PTO law, Jacobians, step): constant Jacobians (linear hydrostatics and radiation) cost one
+exponential per step size for the whole run.
 Gravity acts at each centre of gravity and so has no moment there; its constant part balances
 the mean buoyancy and is left out.
 
 Integration: :class:`ZeroOrderHoldStepper` - the exact solution over a step for an input held
-constant during the step (matrix exponential of the first-order system). No truncation error,
-unconditionally stable (the discrete eigenvalues are exp(lambda h) for the continuous ones),
-so the only time-discretisation error of a co-simulation is the coupling error of the master.
+constant during the step, or varying linearly over it (matrix exponential of the first-order
+system). No truncation error, unconditionally stable (the discrete eigenvalues are exp(lambda h)
+for the continuous ones), so the only time-discretisation error of a co-simulation is the
+coupling error of the master or of the force model.
 """
 
 from __future__ import annotations
@@ -28,12 +37,27 @@ from .force_elements import LinearPTO
 
 
 class ZeroOrderHoldStepper:
-    """Exact step of z' = A z + B u for u constant over the step; (Phi, Gamma) cached per h."""
+    """Exact step of z' = A z + B u for u constant over the step, or u(s) = u_0 + (s/h) du over it:
+    z(h) = Phi z + Gamma u_0 + Gamma_1 du; (Phi, Gamma) and Gamma_1 cached per h."""
 
     def __init__(self, a: np.ndarray, b: np.ndarray) -> None:
         self.a = a
         self.b = b
         self._cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+        self._ramp: dict[float, np.ndarray] = {}
+
+    def ramp_matrix(self, h: float) -> np.ndarray:
+        """Gamma_1: exp of [[A h, B h, 0], [0, 0, I], [0, 0, 0]], block (1, 3)."""
+        if h not in self._ramp:
+            n, m = self.b.shape
+            aug = np.zeros((n + 2 * m, n + 2 * m))
+            aug[:n, :n] = self.a * h
+            aug[:n, n:n + m] = self.b * h
+            aug[n:n + m, n + m:] = np.eye(m)
+            if len(self._ramp) > 8:
+                self._ramp.clear()
+            self._ramp[h] = expm(aug)[:n, n + m:]
+        return self._ramp[h]
 
     def matrices(self, h: float) -> tuple[np.ndarray, np.ndarray]:
         if h not in self._cache:
@@ -47,9 +71,12 @@ class ZeroOrderHoldStepper:
             self._cache[h] = (e[:n, :n], e[:n, n:])
         return self._cache[h]
 
-    def step(self, z: np.ndarray, u: np.ndarray, h: float) -> np.ndarray:
+    def step(self, z: np.ndarray, u: np.ndarray, h: float, du: np.ndarray | None = None) -> np.ndarray:
         phi, gamma = self.matrices(h)
-        return phi @ z + gamma @ u
+        out = phi @ z + gamma @ u
+        if du is not None:
+            out += self.ramp_matrix(h) @ du
+        return out
 
 
 class LinearMultibodySystem:
@@ -83,6 +110,8 @@ class LinearMultibodySystem:
             idx = [self.coordinate_index(*c) for c in added_mass_coordinates or []]
             self.added_mass[np.ix_(idx, idx)] = added_mass_inf
         self._pto_index = [self.coordinate_index(p.body, p.dof) for p in ptos]
+        self._tangent_index = np.zeros(0, dtype=int)
+        self._dfdx = self._dfdv = np.zeros((0, 0))
         self.mass = self.structural_mass + self.added_mass
         self._mass_inverse = np.linalg.inv(self.mass)
         self._steppers: dict[tuple, ZeroOrderHoldStepper] = {}
@@ -99,10 +128,14 @@ class LinearMultibodySystem:
             self.stiffness[i, i] += p.stiffness
             self.damping[i, i] += p.damping
             self.pto_force[i] += p.force_command
-        key = tuple((p.stiffness, p.damping) for p in self.ptos)
+        key = (tuple((p.stiffness, p.damping) for p in self.ptos), self._dfdx.tobytes(), self._dfdv.tobytes())
         if key not in self._steppers:
             minv = self._mass_inverse
-            a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ self.stiffness, -minv @ self.damping]])
+            stiffness, damping = self.stiffness.copy(), self.damping.copy()
+            ix = np.ix_(self._tangent_index, self._tangent_index)
+            stiffness[ix] -= self._dfdx
+            damping[ix] -= self._dfdv
+            a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ stiffness, -minv @ damping]])
             b = np.vstack([np.zeros((n, n)), minv])
             if len(self._steppers) > 16:
                 self._steppers.clear()
@@ -120,6 +153,17 @@ class LinearMultibodySystem:
         if changed:
             self._assemble_ptos()
 
+    def set_force_tangents(self, coordinates: list[tuple[str, int]], dfdx: np.ndarray, dfdv: np.ndarray) -> None:
+        """Jacobians (m, m) of the external force on ``coordinates`` ((body, dof) each) with respect to their
+        displacement and velocity, held from now on (the linearised force interface)."""
+        index = np.array([self.coordinate_index(*c) for c in coordinates], dtype=int)
+        dfdx, dfdv = np.asarray(dfdx, float), np.asarray(dfdv, float)
+        if (np.array_equal(index, self._tangent_index) and np.array_equal(dfdx, self._dfdx)
+                and np.array_equal(dfdv, self._dfdv)):
+            return
+        self._tangent_index, self._dfdx, self._dfdv = index, dfdx.copy(), dfdv.copy()
+        self._assemble_ptos()
+
     @property
     def n(self) -> int:
         return len(self.coordinates)
@@ -134,9 +178,11 @@ class LinearMultibodySystem:
         self.q = np.array(q, dtype=float)
         self.qd = np.array(qd, dtype=float)
 
-    def step(self, h: float, force: np.ndarray) -> None:
-        """Advance by ``h`` (s) with the external force ``force`` (n,) held constant."""
-        z = self.stepper.step(np.concatenate([self.q, self.qd]), force + self.pto_force, h)
+    def step(self, h: float, force: np.ndarray, rate: np.ndarray | None = None) -> None:
+        """Advance by ``h`` (s) with the external force ``force`` (n,) held constant, or varying at ``rate``
+        (n,) N/s over the step, plus the force tangents' terms (:meth:`set_force_tangents`)."""
+        du = None if rate is None or not np.any(rate) else rate * h
+        z = self.stepper.step(np.concatenate([self.q, self.qd]), force + self.pto_force, h, du)
         self.q, self.qd = z[: self.n], z[self.n :]
 
     def pto_forces(self) -> np.ndarray:

@@ -53,6 +53,9 @@ class MultibodySimulator:
         self.report = analyse(self.model, pose, t)
         pose, v, moved = assemble(self.model, pose, np.asarray(v, float), t)
         self.report = analyse(self.model, pose, t)
+        k = self.model.kin(pose, v, t)
+        for e in self.model.elements:
+            e.start(k)
         self.formulation.initialize(pose, v, t, inputs)
         self.energy0 = self.mechanical_energy()
         self.dissipated = 0.0
@@ -62,11 +65,13 @@ class MultibodySimulator:
         return moved
 
     # ------------------------------------------------------------------ stepping
-    def advance(self, h: float, inputs: np.ndarray | None = None) -> None:
-        """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held."""
+    def advance(self, h: float, inputs: np.ndarray | None = None, restart: bool = False) -> None:
+        """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held; ``restart``: a force element's
+        input changed (e.g. :class:`LinearisedInputForce`), restart the formulation even if ``inputs`` did not."""
         f = self.formulation
-        if inputs is not None:
-            f.set_inputs(inputs)
+        if inputs is not None or restart:
+            if not (inputs is not None and f.set_inputs(inputs)) and restart:
+                f.on_restart()
             # The held input's power at the start of the step (the trapezoidal rule below must pair the
             # same input at both ends of each substep: mixing in the previous step's input is an O(h) error).
             self._powers = self.powers()

@@ -4,15 +4,18 @@ for the ``linear`` formulation, :class:`mbd_fmu.simulator.MultibodySimulator` fo
 Variables (see ``docs/fmu_variables.md``), for each body ``b`` and active degree of freedom
 ``i`` (1 surge ... 6 yaw), and each PTO ``p``:
 
-* inputs ``b.F[i]`` external force (N, N m), e.g. the hydrodynamic force;
+* inputs ``b.F[i]`` external force (N, N m) held over the step, e.g. the hydrodynamic force;
+* inputs of the linearised force interface (:mod:`fmu_base.coupling`, start 0): ``b.F0[i]``,
+  ``b.F0_rate[i]`` on the hydrodynamic coordinates, ``dF_dx[k,l]``, ``dF_dv[k,l]``: the force
+  F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v is added over the step and integrated implicitly;
 * outputs ``b.x[i]`` displacement from equilibrium (m, rad), ``b.v[i]`` velocity; ``p.force``
   (force on the body, N or N m) and ``p.power`` (absorbed power, W). No output depends directly
   on an input (no direct feedthrough);
 * inputs ``p.stiffness``, ``p.damping``, ``p.force_command`` (PTO law F = -k x - c v + u; start
   values from the scenario; a controller may change them between steps);
 * parameters ``b.mass``, ``b.inertia[j,k]``, ``b.x0[i]``, ``b.v0[i]``, and ``A_inf[k,l]``
-  (infinite-frequency added mass in the scene's hydrodynamic DOF numbering, copied from the
-  hydrodynamics FMU's calculated parameters of the same name).
+  (infinite-frequency added mass in the scene's hydrodynamic DOF numbering; start values the
+  scene's, equal to the hydrodynamics FMU's calculated parameters of the same name).
 
 Nonlinear formulations add outputs (none with direct feedthrough): ``b.pose[1..6]`` (cg world
 position, rotation vector from equilibrium), ``p.position``, ``p.velocity`` (the PTO's
@@ -31,10 +34,11 @@ from typing import Any
 import numpy as np
 from pythonfmu.enums import Fmi2Status
 
+from fmu_base.coupling import coupling_variables
 from fmu_base.slave import VectorSlave, indexed_names, load_spec, matrix_names
 
 from .bodies import RigidBody
-from .force_elements import LinearPTO
+from .force_elements import LinearisedInputForce, LinearPTO
 from .joints import JOINT_COORDINATE_UNITS
 from .linear_system import LinearMultibodySystem
 from .simulator import MultibodySimulator
@@ -57,7 +61,9 @@ class MultibodySlave(VectorSlave):
         self.spec = load_spec(self.resources)
         self.system: LinearMultibodySystem | MultibodySimulator | None = None
         self.nonlinear = self.spec.get("multibody", {}).get("formulation", "linear") != "linear"
+        self.set_default_experiment(self.spec)
         self._register_bodies()
+        self._register_coupling()
         self._register_ptos()
         self._register_added_mass()
         if self.nonlinear:
@@ -86,6 +92,30 @@ class MultibodySlave(VectorSlave):
             self.add_reals(key, [f"{b}.{key}[{d + 1}]" for b, d in dofs], causality, np.zeros(len(dofs)),
                            unit=[table[d] for _, d in dofs], description=desc)
 
+    def _register_coupling(self) -> None:
+        """Inputs of the linearised force interface (fmu_base.coupling; all start at 0: without them the
+        force input F alone acts, held over each step)."""
+        pattern = self.spec.get("coupling")
+        self._coupling = pattern is not None
+        if not self._coupling:
+            return
+        coords = [tuple(c) for c in self.spec["hydro_coordinates"]]
+        labels = [k + 1 for k in self._hydro_index()]
+        for group in coupling_variables(coords, labels, pattern["stiffness"], pattern["damping"]):
+            self.add_reals(group.key, group.names, "input", np.zeros(len(group.names)), unit=group.units,
+                           description=group.description)
+        m = len(coords)
+        self._tangent_slots = {key: tuple(np.array(pattern[key], dtype=int).reshape(-1, 2).T)
+                               for key in ("stiffness", "damping")}
+        self._tangent_shape = (m, m)
+
+    def _tangents(self) -> tuple[np.ndarray, np.ndarray]:
+        """dF_dx and dF_dv (m, m) on the hydrodynamic coordinates from the inputs."""
+        dfdx, dfdv = np.zeros(self._tangent_shape), np.zeros(self._tangent_shape)
+        dfdx[self._tangent_slots["stiffness"]] = self.array("dF_dx")
+        dfdv[self._tangent_slots["damping"]] = self.array("dF_dv")
+        return dfdx, dfdv
+
     def _register_ptos(self) -> None:
         ptos = self.spec["ptos"]
         names = [p["name"] for p in ptos]
@@ -107,9 +137,11 @@ class MultibodySlave(VectorSlave):
         labels = [k + 1 for k in self._hydro_index()]
         coords = self.spec["hydro_coordinates"]
         units = [("kg", "kg.m", "kg.m2")[(a[1] >= 3) + (b[1] >= 3)] for a in coords for b in coords]
-        self.add_reals("A_inf", matrix_names("A_inf", labels, labels), "parameter",
-                       np.zeros(len(labels) ** 2), unit=units,
-                       description="infinite-frequency added mass, set from the hydro FMU's A_inf")
+        # Start values: the scene's A_inf (the hydro FMU's calculated parameters), so that the FMU is right
+        # without a parameter set; a host may still copy them from the hydro FMU (same values).
+        start = self.spec.get("added_mass_inf", np.zeros(len(labels) ** 2))
+        self.add_reals("A_inf", matrix_names("A_inf", labels, labels), "parameter", np.ravel(start), unit=units,
+                       description="infinite-frequency added mass (start: the scene's; the hydro FMU's A_inf)")
 
     def _register_nonlinear_outputs(self) -> None:
         for b in self.spec["bodies"]:
@@ -179,6 +211,9 @@ class MultibodySlave(VectorSlave):
         q0 = np.concatenate([self.array(f"{b['name']}.x0") for b in self.spec["bodies"]])
         v0 = np.concatenate([self.array(f"{b['name']}.v0") for b in self.spec["bodies"]])
         self.system.set_state(q0, v0)
+        if self._coupling:
+            self._coupling_index = np.array([self.system.coordinate_index(*c) for c in
+                                             (tuple(c) for c in self.spec["hydro_coordinates"])], dtype=int)
         self._ready = True
         self.mark_outputs_stale()
 
@@ -204,6 +239,10 @@ class MultibodySlave(VectorSlave):
         model = self.system.model
         self._input_slots = np.array([model.slot_of(b["name"], d) for b in spec["bodies"] for d in b["dofs"]],
                                      dtype=int)
+        if self._coupling:
+            coords = [tuple(c) for c in spec["hydro_coordinates"]]
+            model.elements.append(LinearisedInputForce(np.array([model.index(b) for b, _ in coords]),
+                                                       np.array([d for _, d in coords]), model.cg))
         self.array("mbd.dof")[0] = self.system.report.dof
         self.array("mbd.redundant_constraints")[0] = len(self.system.report.redundant)
 
@@ -302,9 +341,19 @@ class MultibodySlave(VectorSlave):
         if self.system.ptos:
             self.system.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
                                          self.array("pto.force_command"))
-        self.system.step(step_size, self.array("F"))
+        force, rate = self.array("F"), None
+        if self._coupling:
+            self.system.set_force_tangents(self._coordinates(), *self._tangents())
+            force = force.copy()
+            force[self._coupling_index] += self.array("F0")
+            rate = np.zeros_like(force)
+            rate[self._coupling_index] = self.array("F0_rate")
+        self.system.step(step_size, force, rate)
         self.mark_outputs_stale()
         return True
+
+    def _coordinates(self) -> list[tuple[str, int]]:
+        return [tuple(c) for c in self.spec["hydro_coordinates"]]
 
     def _step_nonlinear(self, step_size: float) -> bool:
         sim = self.system
@@ -313,8 +362,12 @@ class MultibodySlave(VectorSlave):
                                  self.array("pto.force_command"))
         inputs = np.zeros(sim.model.n)
         inputs[self._input_slots] = self.array("F")
+        restart = False
+        if self._coupling:
+            element = next(e for e in sim.model.elements if isinstance(e, LinearisedInputForce))  # (state copies)
+            restart = element.set(sim.time, self.array("F0"), self.array("F0_rate"), *self._tangents())
         try:
-            sim.advance(step_size, inputs)
+            sim.advance(step_size, inputs, restart=restart)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
             self.log(f"multibody step failed at t = {sim.time:g} s: {exc}", Fmi2Status.error)
             return False

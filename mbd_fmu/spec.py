@@ -4,7 +4,8 @@ The same function serves the FMU slave and the orchestrator (frequency-domain li
 so both see one model. Keys (all SI, world frame at equilibrium; written by
 ``orchestrator.scene.Scene.mbd_spec``): ``bodies`` (name, mass, inertia, cg, dofs, x0, v0,
 point_mass, static_load), ``joints``, ``forces``, ``drivers``, ``ptos``, ``gravity``,
-``multibody`` (formulation, integrator, spectral_radius, max_step, newton_tolerance, restart).
+``multibody`` (formulation, integrator, spectral_radius, max_step, newton_tolerance, restart),
+``moordyn`` (MoorDyn's solver options, for ``catenary`` forces with ``model = "moordyn"``).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from .formulations import Settings
 from .joints import Driver, Harmonic, Joint, Table, TimeFunction
 from .kinematics import Pose
 from .model import MultibodyModel
+from .moordyn_lines import LineSpec, MoorDynLine, MoorDynSettings, MoorDynSystem
 from .moorings import CatenaryLine, LinearMooring
 from .simulator import MultibodySimulator
 
@@ -80,7 +82,24 @@ def _neutral(model: MultibodyModel, coord: Coordinate, pose: Pose) -> float:
     return coord.evaluate(model.kin(pose, np.zeros(model.n)))[0]
 
 
-def force_element(model: MultibodyModel, d: dict[str, Any]) -> list[ForceElement]:
+def moordyn_lines(model: MultibodyModel, spec: dict[str, Any]) -> dict[str, MoorDynLine]:
+    """The ``catenary`` forces with ``model = "moordyn"`` as lines of one :class:`MoorDynSystem`, by name."""
+    entries = [d for d in spec.get("forces", []) if d["kind"] == "catenary" and d.get("model") == "moordyn"]
+    if not entries:
+        return {}
+    lines = []
+    for d in entries:
+        b = model.index(d["body"])
+        lines.append(LineSpec(d["name"], b, np.asarray(d["fairlead"], float) - model.cg[b],
+                              np.asarray(d["anchor"], float), d["length"], d["weight"], d["ea"], d["diameter"],
+                              d["drag_normal"], d["drag_axial"], d["added_mass_normal"], d["added_mass_axial"],
+                              int(d["segments"]), d["internal_damping"]))
+    system = MoorDynSystem(lines, MoorDynSettings(**spec["moordyn"]))
+    return {d["name"]: MoorDynLine(d["name"], system, i) for i, d in enumerate(entries)}
+
+
+def force_element(model: MultibodyModel, d: dict[str, Any],
+                  dynamic_lines: dict[str, MoorDynLine] | None = None) -> list[ForceElement]:
     kind, name = d["kind"], d["name"]
     ref = model.reference
     if kind in ("spring_damper", "rotary_spring_damper", "rope"):
@@ -107,6 +126,8 @@ def force_element(model: MultibodyModel, d: dict[str, Any]) -> list[ForceElement
         b = model.index(d["body"])
         damping = np.asarray(d["damping"], float).reshape(6, 6) if d.get("damping") is not None else None
         return [LinearMooring(name, b, np.asarray(d["stiffness"], float).reshape(6, 6), damping, model.cg[b].copy())]
+    if kind == "catenary" and d.get("model", "quasi_static") == "moordyn":
+        return [dynamic_lines[name]]
     if kind == "catenary":
         b = model.index(d["body"])
         return [CatenaryLine(name, b, np.asarray(d["fairlead"], float) - model.cg[b], np.asarray(d["anchor"], float),
@@ -140,8 +161,9 @@ def build_model(spec: dict[str, Any], added_mass: np.ndarray | None = None) -> t
                            added_mass=added_mass, added_mass_coordinates=coords if added_mass is not None else None,
                            initial_pose=pose)
     elements: list[ForceElement] = []
+    dynamic = moordyn_lines(model, spec)
     for d in spec.get("forces", []):
-        elements += force_element(model, d)
+        elements += force_element(model, d, dynamic)
     ptos = [pto_element(model, p) for p in spec.get("ptos", [])]
     model.elements = elements + ptos
     for d in spec.get("drivers", []):

@@ -41,6 +41,31 @@ def window_mean(t: np.ndarray, y: np.ndarray, mask: np.ndarray) -> float:
     return float(np.trapezoid(yy, tt) / (tt[-1] - tt[0]))
 
 
+def steady_response(scenario: Scenario, data: dict) -> dict[str, complex | float]:
+    """First harmonics per metre of wave amplitude over the last ``simulation.steady_periods`` periods of a
+    regular-wave results file: ``<body> <dof>`` and ``<joint> <k>`` (k-th joint coordinate, from 0) complex, and
+    ``<pto> power`` the mean power per m^2 of amplitude."""
+    from .scenario import DOFS
+
+    w = scenario.waves
+    omega, a = 2 * math.pi / w.period, w.height / 2
+    t = data["time"]
+    mask = steady_window(t, w.period, scenario.simulation.steady_periods)
+    out: dict[str, complex | float] = {}
+    for b in scenario.bodies:
+        for d in b.dofs:
+            y = data[f"bodies/{b.name}/displacement"][:, DOFS.index(d)]
+            out[f"{b.name} {d}"] = harmonic_fit(t[mask], y[mask], omega)[0] / a
+    for j in scenario.joints:
+        if f"joints/{j.name}/coordinate" in data:
+            series = np.asarray(data[f"joints/{j.name}/coordinate"]).reshape(len(t), -1)
+            for k in range(series.shape[1]):
+                out[f"{j.name} {k}"] = harmonic_fit(t[mask], series[mask, k], omega)[0] / a
+    for p in scenario.ptos:
+        out[f"{p.name} power"] = window_mean(t, data[f"ptos/{p.name}/power"], mask) / a**2
+    return out
+
+
 def averaging_window(scenario: Scenario, t: np.ndarray) -> tuple[np.ndarray, str]:
     """Samples of a run over which its summary and its figures average (mean PTO power), and their
     description: in regular waves the last ``simulation.steady_periods`` whole wave periods (the

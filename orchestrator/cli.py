@@ -1,14 +1,14 @@
 """``wec-cosim`` command line.
 
-    wec-cosim run SCENARIO [--out FILE] [--in-process]   time-domain co-simulation
+    wec-cosim run SCENARIO [--out FILE] [--set KEY=VALUE] time-domain co-simulation
     wec-cosim rao SCENARIO --out FILE                     linear frequency-domain response
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
     wec-cosim controller NAME --run RUN_ID                run an example external controller
     wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
     wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
-    wec-cosim plot FILE.h5... [--out DIR] [--joints J[k]...]  PNG figures of results or RAO files
-    wec-cosim sweep SCENARIO --out FILE                   mean PTO power over the scenario's [sweep] grid
+    wec-cosim plot FILE.h5... [--out DIR] [--joints J[k]...]  PNG figures of results, RAO, steady or sweep files
+    wec-cosim sweep SCENARIO --out FILE [--scheduler A]   one run per case of [sweep] on Dask; power matrices
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
 status 2; nothing already computed is lost.
@@ -22,8 +22,6 @@ import shutil
 import sys
 import typing
 from pathlib import Path
-
-import h5py
 
 from hydro_fmu.hdb import HydroDatabaseError
 
@@ -59,9 +57,10 @@ def _out(value: str, kind: str = "hdf5") -> Path:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from .overrides import apply_overrides
     from .simulation import format_summary, run_scenario
 
-    scenario = _scenario(args.scenario)
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.duration is not None:
         _override_duration(scenario, args.duration)
     if args.out is not None:
@@ -139,6 +138,8 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
         target = out / f"{scene.scenario.name}_{kind}.fmu"
         shutil.copy(path, target)
         print(f"{kind}: {target}")
+    print("connect them as docs/fmu_variables.md says (the linearised force interface: x, v -> hydro; F0, F0_rate, "
+          "dF_dx, dF_dv -> mbd); in a C/C++ host use the environment of `wec-cosim host-env` (docs/hosts/)")
     return 0
 
 
@@ -159,9 +160,19 @@ def cmd_export_ssp(args: argparse.Namespace) -> int:
     _out(args.out, kind="file")
     scene = load_scene(scenario, progress=True)
     path = export_ssp(scene, args.out)
-    print(f"SSP archive {path}: components hydro, mbd; {len(scene.connections())} connections; "
-          f"run it with fmpy.ssp.simulation.simulate_ssp or libcosimpy (see docs/masters.md)")
+    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections "
+          f"(linearised force interface); run it with fmpy.ssp.simulation.simulate_ssp, libcosimpy or a C host "
+          f"(docs/hosts/)")
     return 0
+
+
+def cmd_host_env(args: argparse.Namespace) -> int:
+    from .host_environment import main_host_env
+
+    command = list(args.command_line)
+    if command and command[0] == "--":
+        command = command[1:]
+    return main_host_env(command, "json" if args.json else "shell")
 
 
 def cmd_resume(args: argparse.Namespace) -> int:
@@ -187,22 +198,27 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from .sweep import run_sweep
+    from sweeps import SweepInterrupted, run_sweep
+    from sweeps.grid import parse_grid_option, set_grid
+    from sweeps.report import format_outcome
 
     scenario = _scenario(args.scenario)
-    if args.method:
-        scenario.sweep.method = args.method
     _out(args.out)
-    path = run_sweep(scenario, args.out)
-    with h5py.File(path, "r") as f:
-        values, periods = f["values"][()], f["periods"][()]
-        print(f"sweep of {f.attrs['parameter'] or 'wave period'} ({f.attrs['method']}): {path}")
-        for name in f.get("ptos", {}):
-            power = f[f"ptos/{name}/mean_power"][()]
-            print(f"  {name} mean power (kW); rows {f.attrs['parameter'] or '-'}, columns wave period (s)")
-            print("  " + " " * 12 + "".join(f"{p:>10.3g}" for p in periods))
-            for v, row in zip(values, power, strict=True):
-                print(f"  {v:>12.4g}" + "".join(f"{x / 1e3:>10.4g}" for x in row))
+    sw = scenario.sweep
+    sw.method = args.method or sw.method
+    sw.seeds = args.seeds or sw.seeds
+    sw.time_series = sw.time_series or args.time_series
+    sw.transient = sw.transient if args.transient is None else args.transient
+    for option in args.grid:
+        set_grid(scenario, *parse_grid_option(option))
+    try:
+        outcome = run_sweep(scenario, args.out, scheduler=args.scheduler, workers=args.workers,
+                            in_process=True if args.in_process else None, retry_failed=args.retry_failed,
+                            progress=not args.quiet)
+    except SweepInterrupted as exc:
+        print(f"wec-cosim sweep: {exc}", file=sys.stderr)
+        return 130
+    print(format_outcome(outcome))
     return 0
 
 
@@ -233,6 +249,16 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"{text} s: give a finite duration of at least 0 s")
+    return value
+
+
 def parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -240,6 +266,9 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")
     r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
+                        "ptos.pto.damping=8e5 (repeatable)")
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)
@@ -272,6 +301,12 @@ def parser() -> argparse.ArgumentParser:
     e.add_argument("scenario")
     e.add_argument("out", help="output .ssp file")
     e.set_defaults(func=cmd_export_ssp)
+    v = sub.add_parser("host-env", help="print (or run a command with) the environment our FMUs need in a C/C++ "
+                                        "host: LD_PRELOAD of libpython, PYTHONHOME, PYTHONPATH (docs/hosts/c.md)")
+    v.add_argument("--json", action="store_true", help="print JSON instead of shell export lines")
+    v.add_argument("command_line", nargs=argparse.REMAINDER, metavar="-- COMMAND ...",
+                   help="run COMMAND with that environment instead of printing it")
+    v.set_defaults(func=cmd_host_env)
     c = sub.add_parser("resume", help="continue a run from the last checkpoint next to its results file")
     c.add_argument("results")
     c.add_argument("--quiet", action="store_true", help="no progress display")
@@ -282,10 +317,24 @@ def parser() -> argparse.ArgumentParser:
     g.add_argument("--joints", nargs="+", metavar="NAME[k]",
                    help="RAO files: one figure of these joint coordinates' RAOs from all the files given")
     g.set_defaults(func=cmd_plot)
-    w = sub.add_parser("sweep", help="mean PTO power over the scenario's [sweep] grid")
+    w = sub.add_parser("sweep", help="power matrices, PTO studies, seed ensembles: one run per case on Dask")
     w.add_argument("scenario")
-    w.add_argument("--out", required=True, help="output HDF5 file")
+    w.add_argument("--out", required=True, help="sweep file (HDF5); an existing one of the same scene is continued")
+    w.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2|START:STOP:N",
+                   help="add or replace a swept key of [sweep.grid], e.g. waves.hs=1,2,3 or waves.tp=5:10:6")
+    w.add_argument("--seeds", type=_positive_int, help="override sweep.seeds (irregular seas, time domain)")
     w.add_argument("--method", choices=("frequency_domain", "time_domain"), help="override sweep.method")
+    w.add_argument("--transient", type=_seconds, help="override sweep.transient (s)")
+    w.add_argument("--time-series", action="store_true", help="also store each case's time series")
+    w.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler, e.g. tcp://head:8786 "
+                                                          "(default: a local cluster)")
+    w.add_argument("--workers", type=_positive_int, help="local cluster: worker processes (default sweep.workers, "
+                                                  "or one per core)")
+    w.add_argument("--in-process", action="store_true",
+                   help="run the cases one after another in this process, without Dask (default for the "
+                        "frequency-domain method unless --workers or --scheduler is given)")
+    w.add_argument("--retry-failed", action="store_true", help="run the cases recorded as failed again")
+    w.add_argument("--quiet", action="store_true", help="no progress display")
     w.set_defaults(func=cmd_sweep)
     return p
 

@@ -85,22 +85,38 @@ def radiation_coefficients_from_irf(
 
     K is evaluated at step ``dt`` over ``duration`` and Fourier-transformed by the trapezoidal
     rule: B = int K cos(w t) dt, A = A_inf - (1/w) int K sin(w t) dt. Above ``omega_cut`` (where
-    the sampled transform would alias) A = A_inf and B = 0.
+    the sampled transform would alias) A = A_inf and B = 0. For complex ``omega`` the same formulas
+    give the analytic continuation (the kernel is finite): ``-w^2 A + i w B = -w^2 A_inf + i w
+    int K exp(-i w t) dt`` is the radiation part of the time-domain model's Laplace-domain impedance
+    at ``s = i w`` (``orchestrator.decay``).
     """
+    t, k = scene_kernel(scene, dt, duration)
+    idx = scene.hydro_index()
+    return kernel_coefficients(t, k, scene.hdb.added_mass_inf[np.ix_(idx, idx)], omega, omega_cut)
+
+
+def scene_kernel(scene: Scene, dt: float, duration: float) -> tuple[np.ndarray, np.ndarray]:
+    """Times (s) and the radiation impulse response K (nt, m, m) on the hydro coordinates, sampled as
+    the time-domain model samples it (``hydro.irf_d_omega``, ``hydro.damping_tail``)."""
     idx = scene.hydro_index()
     hdb = scene.hdb
-    n = max(2, int(np.ceil(duration / dt)) + 1)
-    t = np.arange(n) * dt
+    t = np.arange(max(2, int(np.ceil(duration / dt)) + 1)) * dt
     h = scene.scenario.hydro
     table = kernel_table(hdb.omega, hdb.radiation_damping[:, idx][:, :, idx], d_omega=h.irf_d_omega,
                          tail_exponent=h.damping_tail)
-    k = impulse_response(*table, t)
-    w = np.full(n, dt)
+    return t, impulse_response(*table, t)
+
+
+def kernel_coefficients(t: np.ndarray, k: np.ndarray, a_inf: np.ndarray, omega: np.ndarray,
+                        omega_cut: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
+    """A(omega), B(omega) of the sampled kernel ``k`` at times ``t`` (:func:`radiation_coefficients_from_irf`)."""
+    dt = t[1] - t[0]
+    w = np.full(len(t), dt)
     w[0] = w[-1] = dt / 2
-    a_inf = hdb.added_mass_inf[np.ix_(idx, idx)]
-    a = np.broadcast_to(a_inf, (len(omega),) + a_inf.shape).copy()
+    dtype = complex if np.iscomplexobj(omega) else float
+    a = np.broadcast_to(a_inf, (len(omega),) + a_inf.shape).astype(dtype)
     b = np.zeros_like(a)
-    low = np.flatnonzero(omega <= omega_cut)
+    low = np.flatnonzero(np.real(omega) <= omega_cut)
     for chunk in np.array_split(low, max(1, len(low) // 1000)):
         wc = omega[chunk]
         b[chunk] = np.einsum("wt,tij->wij", np.cos(np.outer(wc, t)) * w, k)
@@ -152,9 +168,9 @@ def linear_model(scene: Scene, omega: np.ndarray, *, radiation: str = "database"
     if scene.scenario.formulation != "linear":
         return _constrained_linear_model(scene, omega, radiation=radiation, dt=dt, omega_cut=omega_cut,
                                          heading=heading)
-    system = scene.multibody_system(added_mass=False)
-    rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
-    z, f, stiffness = _impedance(scene, omega, system.structural_mass, system.damping, system.stiffness, rows,
+    mech = mechanical_matrices(scene)
+    system, rows = mech.system, mech.rows
+    z, f, stiffness = _impedance(scene, omega, mech.mass, mech.damping, mech.stiffness, rows,
                                  radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     pto_rows = {}
     for p in system.ptos:
@@ -171,35 +187,75 @@ def _constrained_linear_model(scene: Scene, omega: np.ndarray, *, radiation: str
     ``Z = -w^2 (M + A) + i w (B + D) + C_hs + K`` on the generalised coordinates, ``K`` including the
     geometric stiffness of the static loads (gravity, buoyancy) and reactions, with the independent
     rows ``C`` of the constraint Jacobian and its null space ``P`` (reduced: ``P^T Z P``)."""
-    from mbd_fmu.linearize import linearize
-
-    sim = scene.multibody_simulator(added_mass=False)
-    model = sim.model
-    lin = linearize(model)
-    rows = [model.slot_of(b, d) for b, d in scene.hydro_coordinates]
-    z, f, stiffness = _impedance(scene, omega, lin.mass, lin.damping, lin.stiffness, rows,
+    mech = mechanical_matrices(scene)
+    sim, model, lin, rows = mech.simulator, mech.system, mech.linearization, mech.rows
+    pose = scene.linearisation_pose(model)
+    z, f, stiffness = _impedance(scene, omega, mech.mass, mech.damping, mech.stiffness, rows,
                                  radiation=radiation, dt=dt, omega_cut=omega_cut, heading=heading)
     p = lin.null_space
-    kin = model.kin(model.reference, np.zeros(model.n))
+    kin = model.kin(pose, np.zeros(model.n))
     pto_rows = {pto.name: (_coordinate_row(model, pto.coordinate, kin), pto.damping, pto) for pto in sim.ptos}
     return LinearModel(omega, p.T @ z @ p, f @ p, p.T @ stiffness @ p, model, p, list(model.coordinates), pto_rows,
                        full_impedance=z, full_excitation=f, constraint=lin.constraint_jacobian,
                        joints=_joint_maps(model, kin))
 
 
+@dataclass
+class MechanicalMatrices:
+    """The multibody side of a scene about equilibrium on its n generalised coordinates (no hydrodynamics).
+
+    Attributes:
+        mass: structural M (n, n), without A_inf; damping: D (PTOs, dampers); stiffness: K (PTOs, springs
+            and, for constrained scenes, the geometric stiffness of the static loads and reactions).
+        rows: the coordinate of each of ``scene.hydro_coordinates`` among the n.
+        basis: null space P (n, d) of the linearised constraints (None for the ``linear`` formulation).
+        system: the multibody model; simulator, linearization: for constrained scenes (else None).
+    """
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    rows: list[int]
+    basis: np.ndarray | None
+    system: object
+    simulator: object = None
+    linearization: object = None
+
+
+def mechanical_matrices(scene: Scene) -> MechanicalMatrices:
+    """M, D, K of the scene's multibody model about equilibrium (``mbd_fmu.linearize`` if constrained, about the
+    static equilibrium when the scene asks for it: ``Scene.linearisation_pose``)."""
+    if scene.scenario.formulation == "linear":
+        system = scene.multibody_system(added_mass=False)
+        rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
+        return MechanicalMatrices(system.structural_mass, system.damping, system.stiffness, rows, None, system)
+    from mbd_fmu.linearize import linearize
+
+    sim = scene.multibody_simulator(added_mass=False)
+    lin = linearize(sim.model, scene.linearisation_pose(sim.model))
+    rows = [sim.model.slot_of(b, d) for b, d in scene.hydro_coordinates]
+    return MechanicalMatrices(lin.mass, lin.damping, lin.stiffness, rows, lin.null_space, sim.model, sim, lin)
+
+
 def _impedance(scene: Scene, omega: np.ndarray, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
-               rows: list[int], *, radiation: str, dt: float | None, omega_cut: float,
-               heading: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+               rows: list[int], *, radiation: str, dt: float | None, omega_cut: float, heading: float,
+               coefficients: tuple[np.ndarray, np.ndarray] | None = None,
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``Z = -w^2 (M + A) + i w (D + B + B_visc) + K + C_hs``, the excitation (Nw, n) and the static
-    stiffness ``K + C_hs``, with the hydrodynamics (switched as the scenario says) on coordinates ``rows``."""
+    stiffness ``K + C_hs``, with the hydrodynamics (switched as the scenario says) on coordinates ``rows``.
+    ``coefficients``: A, B on the hydro coordinates, already computed (complex ``omega``: required, the
+    impulse response's continuation; the database is tabulated on real frequencies only)."""
     hdb = scene.hdb
     switches = scene.scenario.hydro
     idx = scene.hydro_index()
-    A, B, X = hdb.interpolate(omega, np.radians(heading))
-    if radiation == "impulse_response":
+    X = None if np.iscomplexobj(omega) else hdb.interpolate(omega, np.radians(heading))[2]
+    if coefficients is not None:
+        A, B = coefficients
+    elif radiation == "impulse_response":
         A, B = radiation_coefficients_from_irf(
             scene, omega, dt or scene.scenario.simulation.step, switches.irf_duration, omega_cut)
     elif radiation == "database":
+        A, B, _ = hdb.interpolate(omega, np.radians(heading))
         A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
     else:
         raise ValueError(f"radiation must be 'database' or 'impulse_response', not {radiation!r}")
@@ -216,7 +272,7 @@ def _impedance(scene: Scene, omega: np.ndarray, mass: np.ndarray, damping: np.nd
     z = -w**2 * mass + 1j * w * damping + stiffness
     z[np.ix_(np.arange(len(omega)), rows, rows)] += -w**2 * A + 1j * w * B
     f = np.zeros((len(omega), len(stiffness)), complex)
-    if switches.excitation:
+    if switches.excitation and X is not None:
         f[:, rows] = X[:, idx]
     return z, f, stiffness
 

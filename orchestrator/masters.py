@@ -145,8 +145,10 @@ class Master:
         *,
         settings: MasterSettings | None = None,
         added_mass: AddedMassForce | None = None,
+        parameters: dict[str, dict[str, float]] | None = None,
     ) -> None:
         self.settings = settings or MasterSettings(extrapolation=extrapolation)
+        self.initial_parameters = parameters or {}  # set at every initialisation (before ``initialize``'s own)
         if self.settings.extrapolation not in (0, 1, 2):
             raise ValueError("extrapolation order must be 0, 1 or 2")
         self.extrapolation = self.settings.extrapolation
@@ -237,7 +239,10 @@ class Master:
         self.time = start_time
         for c in self.components.values():
             c.setup(start_time, stop_time)
+        merged = {c: dict(v) for c, v in self.initial_parameters.items()}
         for name, values in (parameters or {}).items():
+            merged.setdefault(name, {}).update(values)
+        for name, values in merged.items():
             comp = self.components[name]
             comp.set_reals(comp.port(list(values)), np.array(list(values.values()), dtype=float))
         for c in self.components.values():
@@ -739,13 +744,16 @@ MASTERS = {"jacobi": JacobiMaster, "gauss_seidel": GaussSeidelMaster}
 
 
 def make_master(kind: str, components: dict, connections: list[Connection], settings: MasterSettings,
-                observe: dict[str, list[str]] | None = None, added_mass: AddedMassForce | None = None) -> Master:
-    """A master by scenario name: jacobi, gauss_seidel, aitken, iqn_ils, simple_jacobi."""
+                observe: dict[str, list[str]] | None = None, added_mass: AddedMassForce | None = None,
+                parameters: dict[str, dict[str, float]] | None = None) -> Master:
+    """A master by scenario name: jacobi, gauss_seidel, aitken, iqn_ils, simple_jacobi; ``parameters``: values
+    set in every initialisation (e.g. A_inf = 0 in the multibody FMU for added-mass mode b)."""
     if kind in ("aitken", "iqn_ils"):
         return IterativeMaster(components, connections, observe=observe, settings=settings,
-                               added_mass=added_mass, solver=kind)
+                               added_mass=added_mass, solver=kind, parameters=parameters)
     if kind == "simple_jacobi":
-        return SimpleJacobiMaster(components, connections, observe=observe, settings=settings)
+        return SimpleJacobiMaster(components, connections, observe=observe, settings=settings, parameters=parameters)
     if kind not in MASTERS:
         raise ValueError(f"unknown master {kind!r}")
-    return MASTERS[kind](components, connections, observe=observe, settings=settings, added_mass=added_mass)
+    return MASTERS[kind](components, connections, observe=observe, settings=settings, added_mass=added_mass,
+                         parameters=parameters)

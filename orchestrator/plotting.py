@@ -1,4 +1,5 @@
-"""``wec-cosim plot``: PNG figures of a results file (time series) or of a RAO file (``wec-cosim rao``)."""
+"""``wec-cosim plot``: PNG figures of a results file (time series), a RAO or steady-state file, or a sweep file
+(matrices, drawn by :mod:`sweeps.plotting`)."""
 
 from __future__ import annotations
 
@@ -31,11 +32,18 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
     out.mkdir(parents=True, exist_ok=True)
     try:
         with h5py.File(path, "r", swmr=True) as f:
+            if f.attrs.get("format") == "wec-cosim sweep":
+                from sweeps.plotting import plot_sweep
+
+                return [plot_sweep(f, out / f"{path.stem}_matrix.png")]
             if "parameter" in f.attrs and "values" in f:
-                raise WecCosimError(f"plot: {path} is a sweep file (wec-cosim sweep); it has no figure yet: read "
-                                    "ptos/<name>/mean_power against values and periods with h5py")
+                raise WecCosimError(f"plot: {path} is a sweep file of an earlier version (values x periods); run "
+                                    "`wec-cosim sweep` again for a file with matrices that plot draws")
             if "omega" in f:
-                return [plot_rao(f, out / f"{path.stem}_rao.png")]
+                figures = [plot_rao(f, out / f"{path.stem}_rao.png")]
+                if "heading_sweep" in f:
+                    figures.append(plot_heading_sweep(f, out / f"{path.stem}_headings.png"))
+                return figures
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
@@ -63,11 +71,12 @@ LEGEND_LINES = 16
 
 
 def plot_time_series(f: h5py.File, target: Path) -> Path:
-    """Displacements, hydrodynamic forces, PTO power (each PTO's, or the total for many PTOs) and wave
-    elevation against time."""
+    """Displacements, hydrodynamic forces, PTO power (each PTO's, or the total for many PTOs), wave elevation and
+    mooring-line tensions against time."""
     plt = _pyplot()
     t = f["time"][()]
-    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+    lines = list(f.get("forces", {}))
+    fig, axes = plt.subplots(4 + bool(lines), 1, figsize=(10, 11 + 2.5 * bool(lines)), sharex=True)
     for name in f.get("bodies", {}):
         d = f[f"bodies/{name}/displacement"][()]
         for j in _active(d):
@@ -94,10 +103,12 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
         axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
         axes[3].plot(t, f["wave/elevation"][()], color="tab:blue")
+    for name in lines:
+        axes[4].plot(t, np.linalg.norm(f[f"forces/{name}/force"][()], axis=1) / 1e3, label=name)
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
     _drop_crowded_legends(axes[:2])
-    return _save(plt, fig, axes, ("displacement", "hydro force (N, N m)", f"PTO power ({unit})",
-                                  "wave elevation (m)"), "time (s)", target)
+    labels = ("displacement", "hydro force (N, N m)", f"PTO power ({unit})", "wave elevation (m)")
+    return _save(plt, fig, axes, labels + (("fairlead tension (kN)",) if lines else ()), "time (s)", target)
 
 
 ENERGY_TERMS = (("work_in", "work in (excitation)"), ("pto", "PTO"), ("radiated", "radiated"),
@@ -237,6 +248,44 @@ def plot_joint_raos(files: list[str | Path], joints: list[str], target: str | Pa
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     return _save(plt, fig, axes, ("|RAO| (rad/m, m/m)", "phase (deg)"), "wave frequency (rad/s)", target)
+
+
+def plot_heading_sweep(f: h5py.File, target: Path) -> Path:
+    """One column per heading of a RAO file's heading sweep: joint coordinate RAOs (deg or m per m of wave
+    amplitude), every body's heave RAO, and the mean PTO power per m^2 of wave amplitude."""
+    plt = _pyplot()
+    omega = f["omega"][()]
+    g = f["heading_sweep"]
+    headings = g["headings_deg"][()]
+    panels = [p for p in ("joints", "bodies", "ptos") if p in g]
+    fig, axes = plt.subplots(len(panels), len(headings), figsize=(4.2 * len(headings), 3.3 * len(panels) + 0.5),
+                             sharex=True, sharey="row", squeeze=False)
+    for k, heading in enumerate(headings):
+        for row, panel in enumerate(panels):
+            ax = axes[row, k]
+            for name in g[panel]:
+                if panel == "joints":
+                    ds = g[f"joints/{name}/rao"]
+                    for i, coordinate in enumerate(ds.attrs.get("coordinates", [])):
+                        values = np.abs(ds[k, :, i])
+                        rotation = "angle" in coordinate or "rotation" in coordinate
+                        ax.plot(omega, np.degrees(values) if rotation else values, label=f"{name} {coordinate}")
+                elif panel == "bodies":
+                    ax.plot(omega, np.abs(g[f"bodies/{name}/rao"][k, :, 2]), label=f"{name} heave")
+                else:
+                    ax.plot(omega, g[f"ptos/{name}/mean_power"][k] / 1e3, label=name)
+            ax.grid(True, alpha=0.3)
+        axes[0, k].set_title(f"heading {heading:g} deg")
+        axes[-1, k].set_xlabel("wave frequency (rad/s)")
+    labels = {"joints": "|joint RAO| (deg/m, m/m)", "bodies": "|heave RAO| (m/m)", "ptos": "mean power (kW per m^2)"}
+    for row, panel in enumerate(panels):
+        axes[row, 0].set_ylabel(labels[panel])
+        if axes[row, -1].get_legend_handles_labels()[0]:
+            axes[row, -1].legend(loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(target, dpi=110)
+    plt.close(fig)
+    return target
 
 
 def plot_steady(f: h5py.File, target: Path) -> Path:

@@ -4,8 +4,8 @@ RAO file (per metre of wave amplitude, ``exp(+i omega t)`` convention; see docs/
 ``omega``, ``incident_power`` (W/m per m^2), ``bodies/<b>/rao`` (Nw, 6), ``ptos/<p>/mean_power``
 (W per m^2) and ``capture_width`` (m), ``joints/<j>/rao`` (Nw, k; attribute ``coordinates``) and
 ``joints/<j>/reaction`` (Nw, 6: force and moment on body 2 about the joint point), for the first
-heading; ``heading_sweep/`` the same with a leading heading axis when ``[rao] headings_deg`` lists
-several; ``irregular/`` the response spectra, significant responses and mean powers in the
+heading; ``heading_sweep/`` the body RAOs, PTO powers and joint RAOs with a leading heading axis when
+``[rao] headings_deg`` lists several; ``irregular/`` the response spectra, significant responses and mean powers in the
 scenario's irregular sea.
 
 Steady-state file: per wave period group ``periods/<i>/``: ``omega``, ``harmonics`` attributes,
@@ -52,6 +52,9 @@ def write_rao_file(scene: Scene, out: Path) -> list[frequency_domain.FrequencyRe
                 g.create_dataset(f"bodies/{b.name}/rao", data=np.array([r.body_rao(b.name) for r in responses]))
             for name in responses[0].pto_power:
                 g.create_dataset(f"ptos/{name}/mean_power", data=np.array([r.pto_power[name] for r in responses]))
+            for name in responses[0].joint_rao:
+                ds = g.create_dataset(f"joints/{name}/rao", data=np.array([r.joint_rao[name] for r in responses]))
+                ds.attrs["coordinates"] = responses[0].joint_coordinates[name]
         if s.waves.kind == "irregular":
             _write_irregular(f, scene, responses[0])
         f.attrs["form"] = responses[0].form

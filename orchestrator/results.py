@@ -15,7 +15,9 @@ Layout (every dataset has a first axis of N samples; see ``docs/results.md``):
 Crash safety: datasets are chunked and extendable; rows are buffered in memory and appended at
 least every ``flush_seconds`` of wall time, the file being in HDF5's single-writer/multiple-reader
 (SWMR) mode, which keeps it consistent on disk at every moment. A killed run leaves a file that
-opens and holds every row up to the last flush.
+opens and holds every row up to the last flush. A kill during a flush can leave some series
+one flush longer than others (each dataset's new size becomes visible on its own):
+:func:`read_results` returns the rows present in every series.
 """
 
 from __future__ import annotations
@@ -171,13 +173,23 @@ def write_error(exc: BaseException, path: Path) -> OSError:
 
 
 def read_results(path: str | Path) -> dict[str, Any]:
-    """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded)."""
+    """All datasets of a results file as numpy arrays, plus ``attrs`` (JSON attributes decoded).
+
+    The time series (the extendable datasets) are cut to the rows every one of them holds: a run killed
+    during a flush leaves the later series one flush short (module docstring)."""
     out: dict[str, Any] = {}
+    series: list[str] = []
     with h5py.File(path, "r", swmr=True) as f:
         def visit(name: str, obj: Any) -> None:
             if isinstance(obj, h5py.Dataset):
                 out[name] = obj[()]
+                if obj.maxshape and obj.maxshape[0] is None:
+                    series.append(name)
         f.visititems(visit)
+        if series:
+            rows = min(len(out[name]) for name in series)
+            for name in series:
+                out[name] = out[name][:rows]
         attrs = {}
         for k, v in f.attrs.items():
             if isinstance(v, str) and v[:1] in "[{":

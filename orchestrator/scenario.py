@@ -13,13 +13,17 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
+
+from hydro_fmu.bem_symmetry import symmetry_error
+from mbd_fmu.moordyn_lines import SCHEMES as MOORDYN_SCHEMES
 
 from . import input_checks, schema
 from .errors import ScenarioError
 from .schema import identifier, non_negative, option, positive
 
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-SHAPES = ("vertical_cylinder", "sphere", "box", "mesh")
+SHAPES = ("vertical_cylinder", "sphere", "box", "regular_prism", "axisymmetric", "mesh")
 FORMULATIONS = ("auto", "linear", "index3", "index1", "nullspace")
 INTEGRATORS = ("", "generalized_alpha", "rk4", "heun", "euler")
 JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
@@ -83,6 +87,12 @@ class SimulationSection:
         doc="jacobi: set the motion at each communication point into the hydro FMU before reading its force; "
             "`false` reads every output right after the step, as generic FMI hosts do (fmpy's SSP simulator, "
             "libcosim fixedStep; first order, needs extrapolation = 0)")
+    interface: str = option(
+        "force", choices=("force", "linearised"),
+        doc="what the hydro FMU hands the multibody FMU: `force`, the force (held or extrapolated by the master); "
+            "`linearised`, the affine model F0 + F0_rate (t - t_n) + dF_dx x + dF_dv v that the multibody FMU "
+            "integrates implicitly (second order and stable under any fixed-step host, the coupling `export-ssp` "
+            "writes; jacobi with extrapolation = 0 only: the model carries its own time rate)")
     added_mass: str = option(
         "mass_matrix", choices=ADDED_MASS,
         doc="`mass_matrix`: A_inf in the multibody mass matrix (stable, default); `explicit_force`: A_inf applied "
@@ -203,10 +213,13 @@ class HydroSection:
     headings_deg: list[float] = option(factory=lambda: [0.0], unit="deg", doc="BEM wave headings")
     bem_method: str = option("indirect", choices=("indirect", "direct"), doc="Capytaine formulation")
     bem_symmetry: str = option(
-        "none", choices=("none", "xOz"),
-        doc="`xOz`: every hydrodynamic body is mirror-symmetric about y = 0 and Capytaine solves on half meshes "
-            "(panels crossing y = 0 are split; checked, an asymmetric body is an error); 2.3 times faster per "
-            "frequency at 5400 panels")
+        "none", check=symmetry_error,
+        doc="`none`, `xOz`, `C<n>` or `D<n>`. `xOz`: every hydrodynamic body is mirror-symmetric about y = 0 and "
+            "Capytaine solves on half meshes (panels crossing y = 0 are split; checked, an asymmetric body is an "
+            "error); 2.3 times faster per frequency at 5400 panels. `C<n>`: the set of bodies is unchanged by a "
+            "rotation of 360/n deg about the z axis (the bodies themselves need not be), `D<n>`: and by the mirror "
+            "about y = 0; one solve on a wedge (half-wedge) of the scene, the results symmetric to round-off "
+            "(docs/nenuphar.md)")
     irf_duration: float = option(60.0, unit="s", check=positive, doc="length of the radiation impulse response")
     irf_d_omega: float = option(
         0.0, unit="rad/s", check=non_negative,
@@ -254,15 +267,28 @@ class GeometrySection:
     """Wetted shape of a body for the BEM solver."""
 
     shape: str = option(choices=SHAPES, doc="primitive or mesh file")
-    radius: float = option(0.0, unit="m", check=non_negative, doc="cylinder or sphere radius")
-    draft: float = option(0.0, unit="m", check=non_negative, doc="cylinder draft (immersed length)")
+    radius: float = option(0.0, unit="m", check=non_negative,
+                           doc="cylinder or sphere radius; regular_prism: axis to corner")
+    draft: float = option(0.0, unit="m", check=non_negative,
+                          doc="cylinder or regular_prism draft (immersed length; the freeboard is the same)")
+    sides: int = option(0, check=non_negative, doc="regular_prism: number of sides (a flat side faces +x)")
     size: tuple[float, float, float] = option((0.0, 0.0, 0.0), unit="m", check=non_negative,
                                               doc="box length, width, height")
     mesh_file: str = option("", doc="mesh file (.obj, .stl, .gdf, ...), relative to the scenario file")
+    profile: list[tuple[float, float]] = option(
+        factory=list, unit="m",
+        doc="axisymmetric: [r, z] points of the hull's cross-section in a meridian half-plane, in order along the "
+            "surface (e.g. an annular float: outer wall from above the waterline down, bottom inwards, inner wall "
+            "up), revolved about the shape's vertical axis; faceted so that volumes and waterplane areas are exact")
+    dry_segments: list[int] = option(
+        factory=list,
+        doc="axisymmetric: indices (0 = first) of profile segments in contact with another body, e.g. a float's "
+            "bore on a spar's column: they close the body for its hydrostatics but are not wetted (left out of "
+            "the BEM mesh); give the neighbour's hull there as dry too (no water gap)")
     position: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="m",
-        doc="world position of the shape's origin (cylinder: axis at the waterline; sphere, box: centre; "
-            "mesh: the file's origin)")
+        doc="world position of the shape's origin (cylinder, regular_prism: axis at the waterline; sphere, box: "
+            "centre; axisymmetric: the profile's r = 0, z = 0; mesh: the file's origin)")
     rotation_deg: tuple[float, float, float] = option(
         (0.0, 0.0, 0.0), unit="deg",
         doc="rotation of the shape about its origin: about the fixed x, then y, then z axis")
@@ -362,6 +388,10 @@ class MultibodySection:
                                                                  "max(1 m, largest cg coordinate))")
     gravity: bool = option(True, doc="apply gravity at the centres of gravity and the bodies' buoyancy "
                                      "(nonlinear formulations)")
+    static_equilibrium: bool = option(
+        False, doc="find the static equilibrium (gravity, buoyancy, hydrostatic stiffness, moorings, tethers, "
+                   "springs) before the run, report it, start the run from it (initial displacements are added) "
+                   "and linearise the frequency domain about it (nonlinear formulations; docs/nenuphar.md)")
 
 
 @dataclass
@@ -407,8 +437,48 @@ class ForceSection:
     length: float = option(0.0, unit="m", check=non_negative, doc="catenary: unstretched length")
     weight: float = option(0.0, unit="N/m", check=non_negative, doc="catenary: submerged weight per length")
     ea: float = option(0.0, unit="N", check=non_negative, doc="catenary: axial stiffness")
+    diameter: float = option(0.0, unit="m", check=non_negative,
+                             doc="catenary with MoorDyn: volume-equivalent line diameter (buoyancy, drag, added mass; "
+                                 "the mass per length is weight / g + rho pi diameter^2 / 4)")
+    segments: int = option(20, check=positive, doc="catenary with MoorDyn: number of lumped-mass segments")
+    drag_normal: float = option(1.2, check=non_negative, doc="catenary with MoorDyn: normal drag coefficient")
+    drag_axial: float = option(0.4, check=non_negative, doc="catenary with MoorDyn: axial drag coefficient")
+    added_mass_normal: float = option(1.0, check=non_negative,
+                                      doc="catenary with MoorDyn: normal added-mass coefficient")
+    added_mass_axial: float = option(0.0, check=non_negative, doc="catenary with MoorDyn: axial added-mass coefficient")
+    internal_damping: float = option(0.8, check=non_negative,
+                                     doc="catenary with MoorDyn: axial damping of each segment, fraction of critical")
     force: float = option(0.0, unit="N or N m", check=non_negative, doc="friction: Coulomb force or torque")
     velocity: float = option(1e-3, unit="m/s or rad/s", check=positive, doc="friction: regularisation velocity")
+
+
+MOORING_MODELS = ("quasi_static", "moordyn")
+
+
+@dataclass
+class MooringLinesSection:
+    """How the scene's `catenary` lines are computed (see docs/scenarios.md, RM3)."""
+
+    model: str = option(
+        "quasi_static", choices=MOORING_MODELS,
+        doc="`quasi_static`: the elastic catenary with sea-bed contact solved at every evaluation (cheap, no line "
+            "dynamics); `moordyn`: MoorDyn's lumped-mass line dynamics (drag, added mass and inertia of the lines) "
+            "stepped inside the multibody FMU, its state saved with the FMU state. The frequency-domain and "
+            "steady-state solvers always use the quasi-static lines")
+    time_step: float = option(0.001, unit="s", check=positive,
+                              doc="MoorDyn's own step dtM (sub-cycled within each multibody step); must stay below "
+                                  "each line's axial Courant limit, segment length / sqrt(EA / mass per length)")
+    scheme: str = option("RK2", choices=MOORDYN_SCHEMES,
+                         doc="MoorDyn's time scheme (explicit; RK2 is MoorDyn's default)")
+    seabed_stiffness: float = option(3.0e6, unit="Pa/m", check=positive,
+                                     doc="MoorDyn's sea-bed contact stiffness per unit area (the sea bed is at the "
+                                         "anchors' depth)")
+    seabed_damping: float = option(3.0e5, unit="Pa s/m", check=non_negative,
+                                   doc="MoorDyn's sea-bed contact damping per unit area")
+    ic_time: float = option(60.0, unit="s", check=positive,
+                            doc="longest dynamic relaxation of MoorDyn's initial line shapes")
+    ic_tolerance: float = option(1e-3, unit="m/s^2", check=positive,
+                                 doc="the relaxation stops when the largest node acceleration is below this")
 
 
 @dataclass
@@ -497,18 +567,30 @@ class ControlSection:
 
 @dataclass
 class SweepSection:
-    """Parameter sweep for `wec-cosim sweep`: mean PTO power over a grid of one key and wave periods."""
+    """Sweep for `wec-cosim sweep`: one full run per combination of the grid's values (see docs/sweeps.md)."""
 
-    parameter: str = option(
-        "", doc="key path of the swept value: `section.key` (e.g. `waves.height`) or `ptos.<name>.<key>` / "
-                "`bodies.<name>.<key>` (e.g. `ptos.pto.damping`); empty = only the wave periods")
-    values: list[float] = option(factory=list, doc="values of the swept key (its unit)")
-    periods: list[float] = option(factory=list, unit="s", check=positive,
-                                  doc="regular wave periods; default the scenario's `waves.period`")
+    grid: dict[str, Any] = option(
+        factory=dict,
+        doc="swept keys and their values: a table whose keys are key paths of this file and whose values are "
+            "arrays, e.g. `waves.hs = [1.0, 2.0]`, `waves.tp = [6.0, 8.0]`, `ptos.pto.damping = [1e5, 2e5]`, "
+            "`bodies.float.mass = [...]`, `waves.heading_deg = [...]`; one case per combination (the first key "
+            "varies slowest); `--grid KEY=V1,V2` on the command line adds or replaces a key")
+    seeds: int = option(
+        1, check=positive,
+        doc="time-domain runs in irregular seas: realisations per grid cell; the seed of each is derived from the "
+            "case's sea state, the seed index and `waves.seed` (never from the order of execution)")
     method: str = option("frequency_domain", choices=("frequency_domain", "time_domain"),
-                         doc="exact linear frequency-domain solution, or a time-domain co-simulation per point "
-                             "(steady state over `simulation.steady_periods`)")
-    workers: int = option(1, check=positive, doc="processes running time-domain points in parallel")
+                         doc="exact linear frequency-domain solution (regular or irregular seas), or one "
+                             "time-domain co-simulation per case")
+    transient: float | None = option(
+        None, unit="s", check=non_negative,
+        doc="time domain: start-up discarded before the statistics; default: regular waves the last "
+            "`simulation.steady_periods` periods are analysed (the duration is extended to the ramp, 15 "
+            "periods of settling and that window), other seas the ramp time plus `hydro.irf_duration`")
+    time_series: bool = option(False, doc="also store each case's time series in the sweep file")
+    workers: int = option(0, check=non_negative,
+                          doc="worker processes of the local Dask cluster; 0 = one per core (`--workers`; "
+                              "`--scheduler ADDRESS` uses a running cluster instead)")
 
 
 @dataclass
@@ -527,12 +609,15 @@ class Scenario:
     joints: list[JointSection] = field(default_factory=list, metadata={"doc": "joints"})
     forces: list[ForceSection] = field(default_factory=list, metadata={"doc": "force elements"})
     drivers: list[DriverSection] = field(default_factory=list, metadata={"doc": "prescribed motion"})
+    mooring_lines: MooringLinesSection = field(default_factory=MooringLinesSection,
+                                               metadata={"doc": "mooring-line model of the `catenary` forces"})
     rao: RaoSection = field(default_factory=RaoSection)
     steady: SteadySection = field(default_factory=SteadySection, metadata={"doc": "pseudo-spectral steady state"})
     control: ControlSection = field(default_factory=ControlSection)
-    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "parameter sweep"})
+    sweep: SweepSection = field(default_factory=SweepSection, metadata={"doc": "sweeps and power matrices"})
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
+    _overrides: list[str] = field(default_factory=list, init=False, repr=False)  # `wec-cosim run --set` items
 
     @property
     def file(self) -> Path:
@@ -595,6 +680,7 @@ def parse_scenario(text: str, path: Path) -> Scenario:
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
     except RecursionError:
         raise ScenarioError(f"{path}: arrays or tables nested too deeply") from None
+    _refuse_old_sweep_keys(data, path)
     scenario = schema.load(Scenario, data, str(path))
     scenario._file = path
     scenario._text = text
@@ -602,6 +688,25 @@ def parse_scenario(text: str, path: Path) -> Scenario:
         scenario.name = re.sub(r"[^A-Za-z0-9_.+-]", "_", path.stem).lstrip(".-")[:100] or "scenario"
     _check(scenario)
     return scenario
+
+
+def _refuse_old_sweep_keys(data: dict, path: Path) -> None:
+    """The one-key sweep table of earlier versions (parameter, values, periods) with its replacement."""
+    sw = data.get("sweep")
+    if not isinstance(sw, dict) or not {"parameter", "values", "periods"} & set(sw):
+        return
+    def array(values: object) -> str:
+        text = str(values)
+        return text if len(text) <= 80 else text[:60] + " ...]"
+
+    lines = []
+    if sw.get("parameter"):
+        lines.append(f"{sw['parameter']} = {array(sw.get('values', []))}")
+    if sw.get("periods"):
+        lines.append(f"waves.period = {array(sw['periods'])}")
+    raise ScenarioError(
+        f"{path}: [sweep] keys parameter, values and periods were replaced by the [sweep.grid] table of key paths "
+        "and values; write instead: [sweep.grid] " + "; ".join(lines) + " (see docs/sweeps.md)")
 
 
 def _check(s: Scenario) -> None:
@@ -690,6 +795,13 @@ def _check_simulation(s: Scenario) -> None:
         raise ScenarioError(
             f"{f}: simulation.resolve_feedthrough = false is the plain zero-order-hold Jacobi of generic FMI hosts; "
             f"it needs master = 'jacobi' and extrapolation = 0 (got {sim.master!r}, {sim.extrapolation})")
+    if sim.interface == "linearised" and (sim.master != "jacobi" or sim.extrapolation != 0
+                                          or sim.added_mass != "mass_matrix" or sim.adaptive.enabled):
+        raise ScenarioError(
+            f"{f}: simulation.interface = 'linearised' hands the multibody FMU an affine force model with its own "
+            f"time rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass "
+            f"and a fixed step (no [simulation.adaptive]) (got {sim.master!r}, {sim.extrapolation}, "
+            f"{sim.added_mass!r})")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "
@@ -840,6 +952,7 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
             for key in ("length", "weight", "ea"):
                 if getattr(e, key) <= 0:
                     raise ScenarioError(f"{where}: a catenary line needs a positive {key}")
+    _check_mooring_lines(s, f)
     for i, d in enumerate(s.drivers):
         where = f"{f}: drivers[{i}] ({d.name})"
         if bool(d.joint) == bool(d.body):
@@ -873,6 +986,9 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
             vec(where, "point2", p.point2)
         elif p.body2:
             vec(where, "position", p.position)
+    if s.formulation == "linear" and s.multibody.static_equilibrium:
+        raise ScenarioError(f"{f}: multibody.static_equilibrium needs a nonlinear formulation (index3, index1 or "
+                            "nullspace); the linear model assumes the reference pose is the equilibrium")
     if s.formulation == "linear" and (s.joints or s.forces or s.drivers or any(b.point_mass for b in s.bodies)
                                       or any(p.joint or p.body2 or p.point for p in s.ptos)):
         raise ScenarioError(f"{f}: multibody.formulation = 'linear' supports bodies on selected DOFs with PTOs to the "
@@ -883,12 +999,49 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
                                 "set dofs to translations only")
 
 
+def _check_mooring_lines(s: Scenario, f: str) -> None:
+    """MoorDyn lines: diameters, one sea bed, the axial Courant limit of MoorDyn's step."""
+    m = s.mooring_lines
+    if m.model != "moordyn":
+        return
+    lines = [(i, e) for i, e in enumerate(s.forces) if e.kind == "catenary"]
+    if not lines:
+        raise ScenarioError(f"{f}: mooring_lines.model = 'moordyn' but the scene has no force of kind 'catenary'")
+    depths = {round(e.anchor[2], 6) for _, e in lines}
+    if len(depths) > 1:
+        raise ScenarioError(f"{f}: mooring_lines.model = 'moordyn' needs every catenary anchor on one sea bed "
+                            f"(anchor z: {sorted(depths)} m)")
+    rho, g = s.environment.rho, s.environment.g
+    for i, e in lines:
+        where = f"{f}: forces[{i}] ({e.name})"
+        if e.diameter <= 0:
+            raise ScenarioError(f"{where}: mooring_lines.model = 'moordyn' needs the line's diameter (m)")
+        if e.anchor[2] >= e.fairlead[2]:
+            raise ScenarioError(f"{where}: the anchor must lie below the fairlead")
+        mass = e.weight / g + rho * math.pi * e.diameter ** 2 / 4
+        limit = e.length / e.segments / math.sqrt(e.ea / mass)
+        if m.time_step > limit:
+            raise ScenarioError(
+                f"{f}: mooring_lines.time_step ({m.time_step:g} s) exceeds the axial Courant limit of line {e.name!r}, "
+                f"{limit:.3g} s (segment {e.length / e.segments:.3g} m, axial wave speed {math.sqrt(e.ea / mass):.4g} "
+                "m/s): MoorDyn's explicit scheme would blow up; reduce the step or the number of segments")
+
+
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
     g = b.geometry
-    needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",)}.get(g.shape, ())
+    needs = {"vertical_cylinder": ("radius", "draft"), "sphere": ("radius",),
+             "regular_prism": ("radius", "draft")}.get(g.shape, ())
     for key in needs:
         if getattr(g, key) <= 0:
             raise ScenarioError(f"{where}: geometry shape {g.shape!r} needs a positive {key}")
+    if g.shape == "axisymmetric" and (len(g.profile) < 2 or any(r < 0 for r, _ in g.profile)):
+        raise ScenarioError(f"{where}: geometry shape 'axisymmetric' needs profile = [[r, z], ...] with at least two "
+                            "points and r >= 0")
+    if any(not 0 <= i < len(g.profile) - 1 for i in g.dry_segments):
+        raise ScenarioError(f"{where}: geometry dry_segments {g.dry_segments} must be indices of profile segments "
+                            f"(0 to {len(g.profile) - 2})")
+    if g.shape == "regular_prism" and g.sides < 3:
+        raise ScenarioError(f"{where}: geometry shape 'regular_prism' needs sides >= 3")
     if g.shape == "box" and min(g.size) <= 0:
         raise ScenarioError(f"{where}: geometry shape 'box' needs size = [length, width, height], all positive")
     if g.shape == "mesh":

@@ -18,6 +18,7 @@ from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, body_mesh, cached_
 from hydro_fmu.bemio import read_bemio
 from hydro_fmu.drag import ViscousCoefficients
 from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
+from hydro_fmu.linearisation import CouplingPattern, coupling_pattern
 from hydro_fmu.meshes import SurfaceMesh, write_meshes
 from hydro_fmu.model import ForceSwitches, HydroOptions
 from hydro_fmu.sea import Sea, SeaSpec, build_sea
@@ -56,7 +57,8 @@ def bem_inputs(scenario: Scenario) -> tuple[list[BemBody], BemSettings]:
         mesh_file = str(scenario.resolve(g.mesh_file)) if g.shape == "mesh" else ""
         geometry = BodyGeometry(shape=g.shape, radius=g.radius, draft=g.draft, size=tuple(g.size),
                                 mesh_file=mesh_file, position=tuple(g.position), panel_size=g.panel_size,
-                                lid=g.lid, rotation_deg=tuple(g.rotation_deg))
+                                lid=g.lid, rotation_deg=tuple(g.rotation_deg), profile=tuple(map(tuple, g.profile)),
+                                dry_segments=tuple(g.dry_segments), sides=g.sides)
         bodies.append(BemBody(b.name, geometry, tuple(b.cg)))
     h, env = scenario.hydro, scenario.environment
     settings = BemSettings(
@@ -287,6 +289,23 @@ class Scene:
         return system
 
     # ------------------------------------------------------------------ FMU specifications
+    def coupling_pattern(self) -> CouplingPattern:
+        """Entries of the linearised force interface's dF_dx and dF_dv (hydro_fmu.linearisation)."""
+        h = self.scenario.hydro
+        idx = self.hydro_index()
+        viscous = self.viscous() if h.viscous else None
+        mask = None if viscous is None else (viscous.linear != 0) | (viscous.quadratic != 0)
+        return coupling_pattern(
+            self.hdb, idx, idx // 6, hydrostatics=h.hydrostatics and not h.nonlinear_hydrostatics,
+            nonlinear_position=(h.nonlinear_hydrostatics and h.hydrostatics) or (h.nonlinear_froude_krylov
+                                                                                 and h.excitation),
+            radiation=h.radiation, viscous=mask)
+
+    def experiment(self) -> dict:
+        """The FMUs' DefaultExperiment: the scenario's duration and macro step."""
+        sim = self.scenario.simulation
+        return {"start": 0.0, "stop": sim.duration, "step": sim.step}
+
     def hydro_data_files(self, folder: Path) -> dict[str, Path]:
         """Data files the hydro FMU needs besides its database, written to or found from ``folder``:
         resource name -> file (imported wave data, hull meshes for the nonlinear options)."""
@@ -328,6 +347,8 @@ class Scene:
                                                      "quadratic": viscous.quadratic.tolist()},
             "switches": {"excitation": h.excitation, "radiation": h.radiation, "hydrostatics": h.hydrostatics,
                          "viscous": h.viscous},
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def static_load(self, b: BodySection) -> list[float]:
@@ -340,7 +361,33 @@ class Scene:
         moment = np.cross(np.asarray(hdb.cb[i]) - np.asarray(b.cg), force)
         return force.tolist() + moment.tolist()
 
-    def mbd_spec(self) -> dict:
+    def mbd_spec(self, *, dynamic_lines: bool = True) -> dict:
+        """The multibody FMU's specification; ``dynamic_lines=False`` gives MoorDyn lines as quasi-static
+        catenaries (the frequency-domain solvers' model). With ``multibody.static_equilibrium`` the bodies start
+        from the static equilibrium (their initial displacements added to it)."""
+        spec = self._mbd_spec_at_reference(dynamic_lines)
+        if self.scenario.multibody.static_equilibrium:
+            offsets = self.equilibrium().displacement
+            for b, offset in zip(spec["bodies"], offsets, strict=True):
+                b["x0"] = (np.asarray(b["x0"], float) + offset).tolist()
+        return spec
+
+    def equilibrium(self):
+        """The static equilibrium of the scene (:func:`orchestrator.equilibrium.scene_equilibrium`), computed once."""
+        if not hasattr(self, "_equilibrium"):
+            from .equilibrium import scene_equilibrium
+
+            self._equilibrium = scene_equilibrium(self)
+        return self._equilibrium
+
+    def linearisation_pose(self, model):
+        """Pose the frequency domain linearises about: the static equilibrium if the scene asks for it, else the
+        reference pose."""
+        return self.equilibrium().pose if self.scenario.multibody.static_equilibrium else model.reference
+
+    def _mbd_spec_at_reference(self, dynamic_lines: bool = False) -> dict:
+        """The specification at the reference pose (MoorDyn lines as quasi-static catenaries unless
+        ``dynamic_lines``)."""
         spec = self._linear_mbd_spec()
         s = self.scenario
         if s.formulation == "linear":
@@ -362,6 +409,8 @@ class Scene:
 
         first_unit = {name: (JOINT_COORDINATE_UNITS[kind] or [("", "")])[0][0] for name, kind in kinds.items()}
         spec["forces"] = [dict(self._force_spec(e), rotational=first_unit.get(e.joint) == "rad") for e in s.forces]
+        if dynamic_lines and s.mooring_lines.model == "moordyn":
+            self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
         for p, out in zip(s.ptos, spec["ptos"], strict=True):
@@ -391,6 +440,19 @@ class Scene:
             d["damping"] = matrix(e.damping_matrix)
         return d
 
+    def _moordyn_spec(self, spec: dict) -> None:
+        """Mark the catenary lines for MoorDyn and add its solver options."""
+        s = self.scenario
+        m = s.mooring_lines
+        for e, d in zip(s.forces, spec["forces"], strict=True):
+            if e.kind == "catenary":
+                d.update(model="moordyn", diameter=e.diameter, segments=e.segments, drag_normal=e.drag_normal,
+                         drag_axial=e.drag_axial, added_mass_normal=e.added_mass_normal,
+                         added_mass_axial=e.added_mass_axial, internal_damping=e.internal_damping)
+        spec["moordyn"] = {"time_step": m.time_step, "scheme": m.scheme, "seabed_stiffness": m.seabed_stiffness,
+                           "seabed_damping": m.seabed_damping, "ic_time": m.ic_time, "ic_tolerance": m.ic_tolerance,
+                           "rho": s.environment.rho, "g": s.environment.g}
+
     @staticmethod
     def _driver_spec(d) -> dict:
         coordinate = ({"kind": "joint", "joint": d.joint, "index": 0} if d.joint
@@ -416,12 +478,13 @@ class Scene:
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
     def multibody_simulator(self, *, added_mass: bool = True):
-        """The nonlinear multibody model of the scene, assembled (for linearisation and tests)."""
+        """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
+        are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
         from mbd_fmu.spec import build_simulator
 
         idx = self.hydro_index()
         a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)] if added_mass else np.zeros((len(idx), len(idx)))
-        return build_simulator(self.mbd_spec(), a_inf)
+        return build_simulator(self.mbd_spec(dynamic_lines=False), a_inf)
 
     def _linear_mbd_spec(self) -> dict:
         s = self.scenario
@@ -439,6 +502,9 @@ class Scene:
                       "velocity_scale": p.velocity_scale} for p in s.ptos],
             "hydro_bodies": self.hydro_bodies,
             "hydro_coordinates": [list(c) for c in self.hydro_coordinates],
+            "added_mass_inf": self.hdb.added_mass_inf[np.ix_(self.hydro_index(), self.hydro_index())].ravel().tolist(),
+            "coupling": self.coupling_pattern().to_json(),
+            "experiment": self.experiment(),
         }
 
     def connections(self) -> list[Connection]:
@@ -449,6 +515,22 @@ class Scene:
             links.append(Connection(MBD, f"{b}.x[{i}]", HYDRO, f"{b}.x[{i}]"))
             links.append(Connection(MBD, f"{b}.v[{i}]", HYDRO, f"{b}.v[{i}]"))
             links.append(Connection(HYDRO, f"{b}.F[{i}]", MBD, f"{b}.F[{i}]"))
+        return links
+
+    def linearised_connections(self) -> list[Connection]:
+        """The linearised force interface: MBD displacement and velocity -> hydro; hydro F0, F0_rate, dF_dx,
+        dF_dv -> the MBD inputs of the same names (what plain fixed-step hosts need, see docs/masters.md)."""
+        links = [link for link in self.connections() if link.source == MBD]
+        for b, d in self.hydro_coordinates:
+            for var in ("F0", "F0_rate"):
+                name = f"{b}.{var}[{d + 1}]"
+                links.append(Connection(HYDRO, name, MBD, name))
+        labels = [k + 1 for k in self.hydro_index()]
+        pattern = self.coupling_pattern()
+        for var, pairs in (("dF_dx", pattern.stiffness), ("dF_dv", pattern.damping)):
+            for i, j in pairs:
+                name = f"{var}[{labels[i]},{labels[j]}]"
+                links.append(Connection(HYDRO, name, MBD, name))
         return links
 
     def parameter_links(self) -> list[Connection]:
@@ -469,15 +551,14 @@ def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress
 
 
 def check_wave_range(scenario: Scenario, hdb: HydroDatabase, path: Path) -> None:
-    """Regular wave periods (waves, steady, sweep) and an irregular sea's peak inside the database's
-    frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
+    """Regular wave periods (waves, steady; each case of a sweep has its own) and an irregular sea's peak
+    inside the database's frequency range: outside it every coefficient would be extrapolated (errors of "+nan %")."""
     w, f = scenario.waves, scenario.file
     lo, hi = float(hdb.omega[0]), float(hdb.omega[-1])
     periods = []
     if w.kind == "regular":
         periods.append(("waves.period", w.period))
     periods += [(f"steady.periods[{i}]", p) for i, p in enumerate(scenario.steady.periods)]
-    periods += [(f"sweep.periods[{i}]", p) for i, p in enumerate(scenario.sweep.periods)]
     if w.kind == "irregular" and w.tp > 0:
         periods.append(("waves.tp", w.tp))
     for key, period in periods:

@@ -89,6 +89,17 @@ def load(cls: type, data: Any, file: str, path: str = "") -> Any:
     return cls(**values)
 
 
+def convert_field(cls: type, name: str, value: Any, file: str, path: str) -> Any:
+    """``value`` converted and checked as field ``name`` of dataclass ``cls`` would be when loaded
+    (errors name ``file`` and the key ``path``)."""
+    f = {f.name: f for f in dataclasses.fields(cls)}[name]
+    converted = _convert(typing.get_type_hints(cls)[name], value, file, path, f)
+    problem = f.metadata.get("check") and f.metadata["check"](converted)
+    if problem:
+        raise ScenarioError(f"{file}: {path} {problem} (got {_show(value)})")
+    return converted
+
+
 def _convert(tp: Any, value: Any, file: str, path: str, f: dataclasses.Field | None) -> Any:
     origin = typing.get_origin(tp)
     args = typing.get_args(tp)
@@ -97,6 +108,10 @@ def _convert(tp: Any, value: Any, file: str, path: str, f: dataclasses.Field | N
         return _convert(inner[0], value, file, path, f)
     if dataclasses.is_dataclass(tp):
         return load(tp, value, file, path)
+    if origin is dict:  # a free-form table, checked by its owner
+        if not isinstance(value, dict):
+            raise ScenarioError(f"{file}: {path}: expected a table, got {_show(value)}")
+        return value
     if origin in (list, tuple):
         if not isinstance(value, list):
             raise ScenarioError(f"{file}: {path}: expected an array ({_describe(tp, f)}), got {_show(value)}")
@@ -149,7 +164,7 @@ def _describe(tp: Any, f: dataclasses.Field | None) -> str:
     origin, args = typing.get_origin(tp), typing.get_args(tp)
     if origin in (typing.Union, types.UnionType):
         return _describe([a for a in args if a is not type(None)][0], f)
-    if dataclasses.is_dataclass(tp):
+    if dataclasses.is_dataclass(tp) or origin is dict:
         return "table"
     if origin in (list, tuple):
         if origin is tuple and args and args[-1] is not Ellipsis:
@@ -212,4 +227,6 @@ def _toml_value(value: Any) -> str:
         return "`inf`" if value > 0 else "`-inf`"
     if isinstance(value, (list, tuple)):
         return "`[" + ", ".join(_toml_value(v).strip("`") for v in value) + "]`"
+    if isinstance(value, dict):
+        return "`{" + ", ".join(f"{k} = {_toml_value(v).strip('`')}" for k, v in value.items()) + "}`"
     return f"`{value}`"

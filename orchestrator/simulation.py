@@ -73,7 +73,7 @@ class Recorder:
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
         """Results path -> multibody FMU outputs for the nonlinear formulations: per joint its coordinates,
         rates and reaction (force on body 2 from body 1 and moment about the joint point, world frame),
-        the energy account and the constraint violation."""
+        each mooring line's fairlead force on its body, the energy account and the constraint violation."""
         s = scene.scenario
         if s.formulation == "linear":
             return {}
@@ -87,6 +87,9 @@ class Recorder:
                 out[f"joints/{j.name}/rate"] = [f"{j.name}.rate[{i + 1}]" for i in range(k)]
             out[f"joints/{j.name}/force"] = [f"{j.name}.force[{i + 1}]" for i in range(3)]
             out[f"joints/{j.name}/moment"] = [f"{j.name}.moment[{i + 1}]" for i in range(3)]
+        for e in s.forces:
+            if e.kind == "catenary":  # mooring lines: fairlead force on the body (world frame)
+                out[f"forces/{e.name}/force"] = [f"{e.name}.force[{i + 1}]" for i in range(3)]
         for key in ("kinetic", "potential", "dissipated", "external_work", "pto", "balance"):
             out[f"energy/{key}"] = [f"energy.{key}"]
         out["mbd/constraint_violation"] = ["mbd.constraint_violation"]
@@ -235,6 +238,8 @@ class RunPlan:
             out["control_manifest"] = self.control.manifest.to_json()
         if self.mobility:
             out["mobility"] = self.mobility
+        if scenario.multibody.static_equilibrium:
+            out["static_equilibrium"] = self.scene.equilibrium().as_dict()
         return out
 
 
@@ -262,21 +267,30 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     # A scene given is reused for its database only (the scenario may be a variant of its own).
     scene = (Scene(scenario, scene.hdb, scene.hdb_file) if scene is not None
              else load_scene(scenario, log=log, progress=progress))
+    if scenario.multibody.static_equilibrium and log is not None:
+        from .equilibrium import equilibrium_report
+
+        log(equilibrium_report(scene.equilibrium()))
     sim = scenario.simulation
     observe = Recorder.observed(scene)
     settings = {"master": sim.master, "step": sim.step, "duration": sim.duration,
-                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass,
+                "extrapolation": sim.extrapolation, "added_mass": sim.added_mass, "interface": sim.interface,
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
-                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy")}
+                "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy"),
+                "overrides": list(scenario._overrides)}
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
     else:
-        coupling = scene_coupling(scene, sim.added_mass)
+        coupling = scene_coupling(scene, sim.added_mass, interface=sim.interface)
+        if not sim.resolve_feedthrough and sim.interface == "force" and log is not None:
+            log("warning: resolve_feedthrough = false with the force interface is what a plain FMI host does with "
+                "the force connected: first order, and unstable for light bodies (docs/hosts/README.md); "
+                "simulation.interface = 'linearised' is second order under the same host")
         components = make_components(coupling.fmus, in_process)
         kind = "simple_jacobi" if not sim.resolve_feedthrough else sim.master
         master = make_master(kind, components, coupling.connections, master_settings(scenario, scene),
-                             observe, coupling.added_mass)
+                             observe, coupling.added_mass, coupling.parameters)
         links = coupling.parameter_links
         settings["fmus"] = {k: str(v) for k, v in coupling.fmus.items()}
     if sim.adaptive.enabled:
@@ -318,13 +332,17 @@ def run_scenario(
     in_process: bool = False,
     log=print,
     progress: bool = True,
+    scene: Scene | None = None,
 ) -> RunResult:
-    """Run the scenario's co-simulation, write the results file, compare with the exact answer."""
+    """Run the scenario's co-simulation, write the results file, compare with the exact answer.
+
+    ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
+    """
     sim = scenario.simulation
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress)
+    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     try:
         writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
     except BaseException:
@@ -365,7 +383,10 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     except (OSError, KeyError, ValueError) as exc:
         raise WecCosimError(f"{results} is not a wec-cosim results file that can be resumed ({exc})") from None
     saved = read_checkpoint(checkpoint_path(results))
-    scenario = parse_scenario(text, scenario_file)
+    from .overrides import apply_overrides
+
+    scenario = apply_overrides(parse_scenario(text, scenario_file), stored.get("overrides", []))
+    scenario.simulation.duration = stored.get("duration", scenario.simulation.duration)  # `run --duration`
     if scenario.control.mode != "off":
         raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
                             "controller's own state is not in the checkpoint); run it again")
@@ -532,7 +553,8 @@ def radiation_report(plan: RunPlan) -> dict:
 
 def _run_statistics(plan: RunPlan) -> dict:
     sizes = plan.controller.sizes
-    out = {"macro_steps": plan.controller.steps, "master": plan.master.name}
+    out = {"macro_steps": plan.controller.steps, "master": plan.master.name,
+           "mooring_lines": plan.scene.scenario.mooring_lines.model}
     if sizes:
         out.update(smallest_step=min(sizes), largest_step=max(sizes), mean_step=float(np.mean(sizes)))
     its = getattr(plan.master, "iterations", [])
@@ -581,6 +603,17 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
             y = data[f"bodies/{b.name}/displacement"][:, j]
             measured, _ = harmonic_fit(t[mask], y[mask], omega)
             out.append(Comparison(f"{b.name} {d}", "m" if j < 3 else "rad", measured, complex(rao[j])))
+    from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+    for j in s.joints:
+        if f"joints/{j.name}/coordinate" not in data:
+            continue
+        series = np.asarray(data[f"joints/{j.name}/coordinate"]).reshape(len(t), -1)
+        for i, (name, (unit, _)) in enumerate(zip(fd.joint_coordinates[j.name], JOINT_COORDINATE_UNITS[j.kind],
+                                                  strict=True)):
+            measured, _ = harmonic_fit(t[mask], series[mask, i], omega)
+            exact = complex(fd.joint_rao[j.name][0, i] * amplitude * wave_phase)
+            out.append(Comparison(f"{j.name} {name}", unit, measured, exact))
     for p in s.ptos:
         measured = window_mean(t, data[f"ptos/{p.name}/power"], mask)
         out.append(Comparison(f"{p.name} mean power", "W", measured, float(fd.pto_power[p.name][0] * amplitude**2)))
@@ -600,7 +633,9 @@ def _powers_text(powers: dict[str, float], many: int = 6) -> str:
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
-        lines.append("steady state against the exact frequency-domain solution:")
+        lines.append("steady state against the exact frequency-domain solution"
+                     + (" (mooring lines linearised quasi-statically: MoorDyn's line dynamics are not in it):"
+                        if result.statistics.get("mooring_lines") == "moordyn" else ":"))
         lines.append(f"  {'quantity':<24}{'co-simulation':>16}{'exact':>16}{'error':>10}{'phase err':>11}")
         for c in result.comparisons:
             phase = f"{c.phase_error_deg:+9.2f} deg" if not math.isnan(c.phase_error_deg) else ""

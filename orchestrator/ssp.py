@@ -4,7 +4,8 @@
 
 * ``SystemStructure.ssd``: components ``hydro`` and ``mbd`` (sources ``resources/*.fmu``), a
   connector for every connected variable and bound parameter (with its ``ssc:Real`` type), the
-  connections (motion mbd -> hydro, force hydro -> mbd), and the parameter bindings inline
+  connections (motion mbd -> hydro; the linearised force interface hydro -> mbd: ``F0``,
+  ``F0_rate``, ``dF_dx``, ``dF_dv``, see ``hydro_fmu.linearisation``), and the parameter bindings inline
   (``ssd:ParameterValues``): the infinite-frequency added mass ``A_inf[k,l]`` the multibody FMU
   must carry in its mass matrix (what our master copies from the hydro FMU's calculated parameters).
   ``ssd:DefaultExperiment`` holds the start and stop time and, as an OSP annotation
@@ -18,7 +19,9 @@
 
 The exported system is the added-mass mode (a) coupling; modes (b) and (c) need a master that
 changes the force input and are not exportable. Generic hosts run a plain fixed-step Jacobi with
-zero-order hold (see :class:`orchestrator.masters.SimpleJacobiMaster`).
+zero-order hold (see :class:`orchestrator.masters.SimpleJacobiMaster`): with the linearised
+interface that is second order and stable (docs/masters.md, "Plain fixed-step hosts"); the
+parameter set is optional (the FMUs' start values are the same).
 """
 
 from __future__ import annotations
@@ -57,7 +60,7 @@ def parameters(scene: Scene) -> dict[str, dict[str, float]]:
 
 def _connectors(scene: Scene) -> dict[str, list[tuple[str, str]]]:
     out: dict[str, list[tuple[str, str]]] = {HYDRO: [], MBD: []}
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         out[link.source].append((link.source_variable, "output"))
         out[link.target].append((link.target_variable, "input"))
     for comp, values in parameters(scene).items():
@@ -90,7 +93,7 @@ def system_structure(scene: Scene) -> str:
             binding = SubElement(SubElement(c, _q("ssd:ParameterBindings")), _q("ssd:ParameterBinding"))
             _parameter_set(SubElement(binding, _q("ssd:ParameterValues")), params[comp])
     links = SubElement(system, _q("ssd:Connections"))
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         SubElement(links, _q("ssd:Connection"), {"startElement": link.source, "startConnector": link.source_variable,
                                                  "endElement": link.target, "endConnector": link.target_variable})
     sim = s.simulation
@@ -130,7 +133,7 @@ def osp_system_structure(scene: Scene) -> str:
             for name, value in params[comp].items():
                 SubElement(SubElement(init, "InitialValue", {"variable": name}), "Real", {"value": repr(value)})
     conns = SubElement(root, "Connections")
-    for link in scene.connections():
+    for link in scene.linearised_connections():
         c = SubElement(conns, "VariableConnection")
         SubElement(c, "Variable", {"simulator": link.source, "name": link.source_variable})
         SubElement(c, "Variable", {"simulator": link.target, "name": link.target_variable})

@@ -31,12 +31,30 @@ class Series:
 
 
 def variant(scenario: Scenario, master: str, step: float, extrapolation: int = 2,
-            added_mass: str = "mass_matrix") -> Scenario:
+            added_mass: str = "mass_matrix", *, interface: str = "force", plain_host: bool = False) -> Scenario:
+    """The scenario with another master and step; ``interface`` (``force``, ``linearised``) and ``plain_host``
+    (outputs read right after each step, as generic FMI hosts do: ``resolve_feedthrough = false``)."""
     s = copy.deepcopy(scenario)
     s.simulation.master = master
     s.simulation.step = step
     s.simulation.extrapolation = extrapolation
     s.simulation.added_mass = added_mass
+    s.simulation.interface = interface
+    s.simulation.resolve_feedthrough = not plain_host
+    return s
+
+
+def regular_wave(scenario: Scenario, period: float, amplitude: float, heading_deg: float | None = None,
+                 periods: float = 15.0, steps_per_period: int = 100) -> Scenario:
+    """A copy of ``scenario`` in a regular wave of ``period`` (s) and ``amplitude`` (m): macro step
+    ``period / steps_per_period``, ``periods`` wave periods simulated, the default ramp (3 periods)."""
+    s = copy.deepcopy(scenario)
+    s.waves.kind = "regular"
+    s.waves.period, s.waves.height, s.waves.ramp_time = period, 2 * amplitude, None
+    if heading_deg is not None:
+        s.waves.heading_deg = heading_deg
+    s.simulation.step = period / steps_per_period
+    s.simulation.duration = round(periods * steps_per_period) * s.simulation.step
     return s
 
 

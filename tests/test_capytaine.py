@@ -70,7 +70,7 @@ def test_second_call_hits_the_cache(small_cylinder) -> None:
 
 
 @pytest.mark.parametrize("name", ["cylinder_regular", "disc_decay", "two_floats", "light_float", "hinge_barge",
-                                  "two_cylinders_decay", "cylinder_irregular"])
+                                  "two_cylinders_decay", "cylinder_irregular", "nenuphar", "mathai_assembly"])
 def test_bundled_scenarios_ship_their_database(name) -> None:
     """The committed database is the one the scenario asks for: a fresh run needs no BEM solve."""
     scenario = load_scenario(SCENARIOS / f"{name}.toml")

@@ -255,9 +255,13 @@ def hand_cases() -> list[Case]:  # noqa: PLR0915 - one line per case
                                                       "repeat_period": 1e9})}, [s, "waves.repeat_period"])
     add("panel size 1e-4", {"s.toml": _set(_cyl(), "bodies[0].geometry.panel_size", 1e-4)}, [s, "panel_size"])
     add("radius 1e6 m", {"s.toml": _set(_cyl(), "bodies[0].geometry.radius", 1e6)}, [s, "panel_size"])
-    add("a million sweep points", {"s.toml": _cyl(sweep={"parameter": "waves.height",
-                                                         "values": [1.0] * 200_001})},
-        [s, "sweep.values"], ["sweep", s, "--out", "{dir}/out.h5"])
+    million = {"waves": {"height": [1.0 + i for i in range(1000)]},
+               "ptos": {"pto": {"damping": [1e3 * (i + 1) for i in range(1000)]}}}
+    add("a million sweep points", {"s.toml": _cyl(sweep={"grid": million})},
+        [s, "sweep.grid", "1000000 cases"], ["sweep", s, "--out", "{dir}/out.h5"])
+    add("sweep with the keys of an earlier version", {"s.toml": _cyl(sweep={"parameter": "waves.height",
+                                                                           "values": [1.0] * 200_001})},
+        [s, "[sweep.grid]", "waves.height = [1.0, 1.0"], ["sweep", s, "--out", "{dir}/out.h5"])
     # seeds, durations, steps
     for seed in (2**31, 2**40, 2**63 - 1):
         add(f"seed {seed}", {"s.toml": _cyl(waves={"kind": "irregular", "hs": 2.0, "tp": 7.0, "seed": seed})},

@@ -64,7 +64,7 @@ def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: b
     v = out[2] if len(out) > 2 else np.zeros(model.n)
     sim = MultibodySimulator(model, Settings(formulation, spectral_radius=0.8))
     if not compiled:
-        sim.formulation._compiled = None
+        sim.formulation.python_path = True
     sim.start(pose, v)
     forced = np.array([dof < 3 for _, dof in model.coordinates])  # wave-like forces on the translations
     for k in range(steps):
