@@ -45,6 +45,8 @@ SCENARIOS: list[tuple] = [
     ("rm3_irregular.toml", "RM3, quasi-static catenary lines, same sea", ("mooring_lines.model=quasi_static",)),
     ("nenuphar.toml", "seed 001 Nenuphar: 7 bodies, 6 hinges, tether, 6 catenaries"),
     ("mathai_assembly.toml", "seed 001 Mathai's three hinged rafts, finite depth"),
+    ("array_4n3la.toml", "seed 000 4N3LA: 4 nodes, 3 link arms, 12 PTOs, irregular sea, index-3"),
+    ("array_9n9la.toml", "seed 000 9N9LA: 9 nodes, 9 arms, hexagonal loop, 36 PTOs, irregular sea, index-3"),
 ]
 
 

@@ -6,7 +6,9 @@ active degrees of freedom ``i`` (1 surge ... 6 yaw); only what the scene selects
 * inputs ``b.x[i]`` displacement from equilibrium (m, rad), ``b.v[i]`` velocity (m/s, rad/s);
 * outputs ``b.F[i]`` total hydrodynamic force (N, N m) and the parts that are switched on:
   ``b.F_exc[i]``, ``b.F_rad[i]`` (radiation memory only), ``b.F_hs[i]``, ``b.F_visc[i]``;
-  ``wave.elevation`` at the origin;
+  ``wave.elevation`` at the origin; ``energy.excitation_work``, ``energy.radiation_work``,
+  ``energy.hydrostatic_work``, ``energy.viscous_work``: work (J) of each part on the bodies since
+  the start (:mod:`hydro_fmu.work`, trapezoidal rule over the communication points);
 * outputs of the linearised force interface (:mod:`hydro_fmu.linearisation`, :mod:`fmu_base.coupling`):
   ``b.F0[i]``, ``b.F0_rate[i]``, ``dF_dx[k,l]``, ``dF_dv[k,l]`` (the pattern's entries only), for
   plain fixed-step hosts;
@@ -45,6 +47,7 @@ from .meshes import read_meshes
 from .model import ForceSwitches, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
 from .state_space import DEFAULT_TOLERANCE
+from .work import COMPONENTS, WorkAccount
 
 DOF_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
@@ -82,7 +85,7 @@ class HydroSlave(VectorSlave):
 
     author = "wec-cosim"
     description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics, drag"
-    state_attributes = ("model", "time", "clock")
+    state_attributes = ("model", "time", "clock", "work", "_power")
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -97,6 +100,8 @@ class HydroSlave(VectorSlave):
         self.model: HydroModel | None = None
         self._built_with: tuple | None = None
         self.time = 0.0
+        self.work = WorkAccount()
+        self._power = np.zeros(len(COMPONENTS))
         self.clock = StepClock()
         self.set_default_experiment(self.spec)
         self._register_parameters()
@@ -133,6 +138,9 @@ class HydroSlave(VectorSlave):
                            [r["state_space_tolerance"]], description="largest scaled error of the fitted kernel")
         self.add_reals("wave.elevation", ["wave.elevation"], "output", [0.0], unit="m",
                        description="incident wave elevation at the world origin")
+        self.add_reals("energy", [f"energy.{c}" for c in COMPONENTS], "output", np.zeros(len(COMPONENTS)),
+                       unit="J", description="work of a hydrodynamic force component on the bodies since the start",
+                       depends_on=("x", "v"))
 
     def _register_body_variables(self) -> None:
         def names(var: str) -> list[str]:
@@ -283,8 +291,14 @@ class HydroSlave(VectorSlave):
             if key in self._arrays:
                 self.array(key)[:] = value
         self.array("wave.elevation")[0] = self.model.elevation(self.time)
+        self._power = WorkAccount.powers(f.excitation, f.radiation, f.hydrostatic, f.viscous, self.array("v"))
+        self.array("energy")[:] = self.work.value(self.time, self._power)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if self._outputs_stale:  # the power at this point (its inputs set, outputs maybe not read)
+            self.update_outputs()
+            self._outputs_stale = False
+        self.work.commit(self.time, self._power)  # the FMU's own clock (below)
         try:
             self.model.advance(current_time, step_size, self.array("v").copy())
         except ValueError as exc:

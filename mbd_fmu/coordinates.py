@@ -209,3 +209,10 @@ class RotationComponent(Coordinate):
     def evaluate(self, kin: Kin) -> tuple[float, np.ndarray, float]:
         value, jac, _ = self.evaluate_jacobian_only(kin)
         return value, jac, _numeric_quad(self, kin)
+
+    def rate(self, kin: Kin) -> tuple[float, float, np.ndarray]:
+        """Value, rate and Jacobian without ``quad`` (its numerical derivative costs two more evaluations
+        and a shifted kinematics; force elements and outputs need only these)."""
+        value, jac, _ = self.evaluate_jacobian_only(kin)
+        w = np.concatenate([kin.W[self.bi], kin.W[self.bj]])
+        return value, float(jac @ w), jac

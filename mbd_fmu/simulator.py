@@ -15,7 +15,8 @@ restart), keeps the energy account and computes the outputs:
 * energy: kinetic ``T``, potential ``V`` (gravity, static loads, springs), dissipated ``D`` and
   external work ``W`` (inputs, PTO force commands, catenary lines, prescribed motion), the last
   two integrated by the trapezoidal rule over each substep (error O(h^2)); the balance
-  ``T + V + D - W - (T0 + V0)`` is zero for exact solutions.
+  ``T + V + D - W - (T0 + V0)`` is zero for exact solutions. ``pto`` is the part of ``D``
+  dissipated by the PTOs' laws (their damping: the energy they convert), integrated the same way.
 """
 
 from __future__ import annotations
@@ -41,6 +42,8 @@ class MultibodySimulator:
         self.settings = settings
         self.max_step = float(max_step)
         self.ptos = list(ptos)
+        # positions of the PTOs among the model's elements (indices survive the deep copies of FMU states)
+        self._pto_index = [i for i, e in enumerate(model.elements) if any(e is p for p in self.ptos)]
         self.formulation = make_formulation(model, settings)
         self.report: MobilityReport | None = None
 
@@ -57,6 +60,7 @@ class MultibodySimulator:
         self.energy0 = self.mechanical_energy()
         self.dissipated = 0.0
         self.work = 0.0
+        self.pto_energy = 0.0
         self._powers = self.powers()
         return moved
 
@@ -77,6 +81,7 @@ class MultibodySimulator:
             powers = self.powers()
             self.dissipated += 0.5 * h / n * (self._powers[0] + powers[0])
             self.work += 0.5 * h / n * (self._powers[1] + powers[1])
+            self.pto_energy += 0.5 * h / n * (self._powers[2] + powers[2])
             self._powers = powers
 
     def set_pto_commands(self, stiffness, damping, force) -> None:
@@ -137,19 +142,22 @@ class MultibodySimulator:
         f = self.formulation
         return self.model.kinetic_energy(f.pose, f.v) + self.model.potential_energy(self.kin)
 
-    def powers(self) -> tuple[float, float]:
-        """(dissipated power, power supplied from outside) now."""
+    def powers(self) -> tuple[float, float, float]:
+        """(dissipated power, power supplied from outside, power dissipated by the PTOs) now."""
         m, f = self.model, self.formulation
         cm = f.compiled
         if cm is not None:
-            return kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
+            diss, supply = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
+            k = self.kin if self.ptos else None  # the PTOs' share in Python: a few coordinates per substep
+            return diss, supply, sum(p.powers(k)[0] for p in self.ptos)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]
         diss = sum(p[0] for p in powers)
+        pto = sum(powers[i][0] for i in self._pto_index)
         supply = sum(p[1] for p in powers) + float(f.inputs @ f.v)
         if len(f.lam) and m.drivers:  # -Phi_t is non-zero only on driver rows
             supply -= float(f.lam @ m.velocity_rhs(f.t))
-        return diss, supply
+        return diss, supply, pto
 
     def energy(self) -> dict[str, float]:
         f = self.formulation
@@ -160,6 +168,7 @@ class MultibodySimulator:
             t = self.model.kinetic_energy(f.pose, f.v)
             v = self.model.potential_energy(self.kin)
         return {"kinetic": t, "potential": v, "dissipated": self.dissipated, "external_work": self.work,
+                "pto": self.pto_energy,
                 "balance": t + v + self.dissipated - self.work - self.energy0}
 
     def constraint_violation(self) -> float:

@@ -22,7 +22,8 @@ position, rotation vector from equilibrium), ``p.position``, ``p.velocity`` (the
 coordinate from its neutral value and its rate), for each joint ``j``: ``j.coordinate[k]``,
 ``j.rate[k]``, ``j.force[1..3]``, ``j.moment[1..3]`` (reaction on body 2 from body 1 about the
 joint point, world frame); for each force element ``e``: ``e.force[k]``; ``energy.kinetic``,
-``energy.potential``, ``energy.dissipated``, ``energy.external_work``, ``energy.balance``;
+``energy.potential``, ``energy.dissipated``, ``energy.external_work``, ``energy.pto`` (the part of
+the dissipated energy the PTOs convert), ``energy.balance``;
 ``mbd.constraint_violation``, ``mbd.dof``, ``mbd.redundant_constraints``.
 """
 
@@ -169,7 +170,7 @@ class MultibodySlave(VectorSlave):
             n, size = f["name"], _force_outputs(f)
             self.add_reals(f"{n}.force", indexed_names(f"{n}.force", range(1, size + 1)), "output", np.zeros(size),
                            unit=_force_units(f), description="force element output (see docs/fmu_variables.md)")
-        for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
+        for key in ("kinetic", "potential", "dissipated", "external_work", "pto", "balance"):
             self.add_reals(f"energy.{key}", [f"energy.{key}"], "output", [0.0], unit="J", description=f"energy: {key}")
         for key, desc in (("constraint_violation", "largest constraint residual (m or rad)"),
                           ("dof", "degrees of freedom"), ("redundant_constraints", "redundant constraint equations")):

@@ -7,7 +7,7 @@
     wec-cosim controller NAME --run RUN_ID                run an example external controller
     wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
     wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
-    wec-cosim plot FILE.h5 [--out DIR]                    PNG figures of a results, RAO, steady or sweep file
+    wec-cosim plot FILE.h5... [--out DIR] [--joints J[k]...]  PNG figures of results, RAO, steady or sweep files
     wec-cosim sweep SCENARIO --out FILE [--scheduler A]   one run per case of [sweep] on Dask; power matrices
 
 User mistakes (bad scenario, missing file, diverging run) print one paragraph and exit with
@@ -184,10 +184,16 @@ def cmd_resume(args: argparse.Namespace) -> int:
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    from .plotting import plot_file
+    from .plotting import plot_file, plot_joint_raos
 
-    for path in plot_file(args.file, args.out):
-        print(path)
+    if args.joints:
+        names = "_".join(Path(f).stem for f in args.file)
+        target = Path(args.out or Path(args.file[0]).parent) / f"{names}_joints.png"
+        print(plot_joint_raos(args.file, args.joints, target))
+        return 0
+    for file in args.file:
+        for path in plot_file(file, args.out):
+            print(path)
     return 0
 
 
@@ -305,9 +311,11 @@ def parser() -> argparse.ArgumentParser:
     c.add_argument("results")
     c.add_argument("--quiet", action="store_true", help="no progress display")
     c.set_defaults(func=cmd_resume)
-    g = sub.add_parser("plot", help="PNG figures of a results file or a RAO file")
-    g.add_argument("file")
-    g.add_argument("--out", help="folder for the PNG files (default: next to the file)")
+    g = sub.add_parser("plot", help="PNG figures of results, RAO or steady-state files")
+    g.add_argument("file", nargs="+")
+    g.add_argument("--out", help="folder for the PNG files (default: next to the (first) file)")
+    g.add_argument("--joints", nargs="+", metavar="NAME[k]",
+                   help="RAO files: one figure of these joint coordinates' RAOs from all the files given")
     g.set_defaults(func=cmd_plot)
     w = sub.add_parser("sweep", help="power matrices, PTO studies, seed ensembles: one run per case on Dask")
     w.add_argument("scenario")

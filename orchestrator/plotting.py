@@ -47,7 +47,10 @@ def plot_file(path: str | Path, out_dir: str | Path | None = None) -> list[Path]
             if "periods" in f:
                 return [plot_steady(f, out / f"{path.stem}_steady.png")]
             if "time" in f:
-                return [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
+                figures = [plot_time_series(f, out / f"{path.stem}_timeseries.png")]
+                if "energy/excitation_work" in f:
+                    figures.append(plot_energy(f, out / f"{path.stem}_energy.png"))
+                return figures
     except OSError as exc:
         raise WecCosimError(f"plot: {path} is not a readable HDF5 file ({exc})") from None
     except (KeyError, ValueError, IndexError) as exc:
@@ -61,8 +64,15 @@ def _active(d: np.ndarray) -> list[int]:
     return [j for j in range(6) if np.any(d[:, j] != 0)]
 
 
+# Scenes with more PTOs than this are drawn with their total power (each PTO's mean in the legend would
+# not fit), and with more displacement or force lines than LEGEND_LINES without a legend.
+MANY_PTOS = 6
+LEGEND_LINES = 16
+
+
 def plot_time_series(f: h5py.File, target: Path) -> Path:
-    """Displacements, hydrodynamic forces, PTO power, wave elevation and mooring-line tensions against time."""
+    """Displacements, hydrodynamic forces, PTO power (each PTO's, or the total for many PTOs), wave elevation and
+    mooring-line tensions against time."""
     plt = _pyplot()
     t = f["time"][()]
     lines = list(f.get("forces", {}))
@@ -76,10 +86,19 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
             for j in _active(force):
                 axes[1].plot(t, force[:, j], label=f"{name} {DOFS[j]}")
     means, where = mean_powers_of(f)
-    for name in f.get("ptos", {}):
-        p = f[f"ptos/{name}/power"][()]
-        mean = f", mean {means[name] / 1e3:.4g} kW" if name in means else ""
-        axes[2].plot(t, p / 1e3, label=f"{name}{mean}")
+    ptos = list(f.get("ptos", {}))
+    power = {name: f[f"ptos/{name}/power"][()] for name in ptos}
+    many = len(ptos) > MANY_PTOS
+    scale, unit = _power_unit(max((np.max(np.abs(p)) for p in power.values()), default=1e3)
+                              * (len(ptos) if many else 1))
+    if many:
+        total = np.sum(list(power.values()), axis=0)
+        mean = f", mean {sum(means.values()) / scale:.4g} {unit}" if len(means) == len(ptos) else ""
+        axes[2].plot(t, total / scale, color="tab:red", label=f"total of {len(ptos)} PTOs{mean}")
+    else:
+        for name, p in power.items():
+            mean = f", mean {means[name] / scale:.4g} {unit}" if name in means else ""
+            axes[2].plot(t, p / scale, label=f"{name}{mean}")
     if means:
         axes[2].set_title(f"mean power over the {where} (as in the run summary)", fontsize=9)
     if "wave/elevation" in f:
@@ -87,8 +106,39 @@ def plot_time_series(f: h5py.File, target: Path) -> Path:
     for name in lines:
         axes[4].plot(t, np.linalg.norm(f[f"forces/{name}/force"][()], axis=1) / 1e3, label=name)
     fig.suptitle(f"{Path(f.filename).name}  ({f.attrs.get('status', '')})")
-    labels = ("displacement", "hydro force (N, N m)", "PTO power (kW)", "wave elevation (m)")
+    _drop_crowded_legends(axes[:2])
+    labels = ("displacement", "hydro force (N, N m)", f"PTO power ({unit})", "wave elevation (m)")
     return _save(plt, fig, axes, labels + (("fairlead tension (kN)",) if lines else ()), "time (s)", target)
+
+
+ENERGY_TERMS = (("work_in", "work in (excitation)"), ("pto", "PTO"), ("radiated", "radiated"),
+                ("dissipated", "dissipated (viscous, ropes, dampers)"), ("stored", "stored (change)"))
+
+
+def plot_energy(f: h5py.File, target: Path) -> Path:
+    """The wave-to-wire energy account against time: the work the waves did and where it went (PTO, radiated,
+    dissipated, stored), and the balance's residual relative to the work in."""
+    from .simulation import energy_terms
+
+    plt = _pyplot()
+    t = f["time"][()]
+    terms = energy_terms({f"energy/{name}": f[f"energy/{name}"][()] for name in f["energy"]})
+    fig, axes = plt.subplots(2, 1, figsize=(10, 7), sharex=True, height_ratios=(2, 1))
+    for key, label in ENERGY_TERMS:
+        axes[0].plot(t, terms[key], label=f"{label}: {terms[key][-1]:.4g} J at the end")
+    axes[0].plot(t, terms["pto"] + terms["radiated"] + terms["dissipated"] + terms["stored"], "k:",
+                 label="PTO + radiated + dissipated + stored")
+    work = np.abs(terms["work_in"])
+    relative = np.divide(terms["residual"], work, out=np.full_like(work, np.nan), where=work > 0.01 * work.max())
+    axes[1].plot(t, 100 * relative, color="tab:red",
+                 label=f"residual / work in: {100 * relative[-1]:.3g} % at the end")
+    fig.suptitle(f"{Path(f.filename).name}: wave-to-wire energy account")
+    return _save(plt, fig, axes, ("energy (J)", "residual (%)"), "time (s)", target)
+
+
+def _power_unit(largest: float) -> tuple[float, str]:
+    """Scale and unit of a power axis: W below 1 kW, else kW."""
+    return (1.0, "W") if largest < 1e3 else (1e3, "kW")
 
 
 def mean_powers_of(f: h5py.File) -> tuple[dict[str, float], str]:
@@ -133,10 +183,71 @@ def plot_rao(f: h5py.File, target: Path) -> Path:
         for j in [j for j in range(6) if np.any(np.abs(rao[:, j]) > 0)]:
             axes[0].plot(omega, np.abs(rao[:, j]), label=f"{name} {DOFS[j]}")
             axes[1].plot(omega, np.degrees(np.angle(rao[:, j])), label=f"{name} {DOFS[j]}")
-    for name in f.get("ptos", {}):
-        axes[2].plot(omega, f[f"ptos/{name}/mean_power"][()] / 1e3, label=name)
-    return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", "mean power (kW per m^2)"),
+    ptos = list(f.get("ptos", {}))
+    power = {name: f[f"ptos/{name}/mean_power"][()] for name in ptos}
+    if len(ptos) > MANY_PTOS:
+        power = {f"total of {len(ptos)} PTOs": np.sum(list(power.values()), axis=0)}
+    scale, unit = _power_unit(max((np.max(np.abs(p)) for p in power.values()), default=1e3))
+    for name, p in power.items():
+        axes[2].plot(omega, p / scale, label=name)
+    _drop_crowded_legends(axes[:2])
+    return _save(plt, fig, axes, ("|RAO| (m/m, rad/m)", "phase (deg)", f"mean power ({unit} per m^2)"),
                  "wave frequency (rad/s)", target)
+
+
+def _drop_crowded_legends(axes) -> None:  # noqa: ANN001
+    """Axes with more than LEGEND_LINES lines get a title saying so instead of a legend."""
+    for ax in axes:
+        if len(ax.get_lines()) > LEGEND_LINES:
+            ax.set_title(f"{len(ax.get_lines())} lines (every active DOF of every body)", fontsize=9)
+            for line in ax.get_lines():
+                line.set_label("_")
+
+
+def joint_selection(text: str) -> tuple[str, int]:
+    """``NAME[k]`` (k 1-based, as the FMU's ``NAME.coordinate[k]``) -> (name, k - 1); ``NAME`` is ``NAME[1]``."""
+    name, _, rest = text.partition("[")
+    try:
+        k = int(rest.rstrip("]")) if rest else 1
+    except ValueError:
+        raise WecCosimError(f"plot: joint coordinate {text!r} is not NAME or NAME[k]") from None
+    if not name or k < 1:
+        raise WecCosimError(f"plot: joint coordinate {text!r} is not NAME or NAME[k] with k >= 1")
+    return name, k - 1
+
+
+def plot_joint_raos(files: list[str | Path], joints: list[str], target: str | Path) -> Path:
+    """Amplitude and phase of chosen joint-coordinate RAOs (``NAME[k]``) of one or more RAO files in one
+    figure (e.g. the same node's relative pitch in two devices); a joint a file lacks is skipped there,
+    a joint no file has is an error."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    found = set()
+    for path in map(Path, files):
+        if not path.is_file():
+            raise WecCosimError(f"plot: file {path} does not exist")
+        with h5py.File(path, "r") as f:
+            if "omega" not in f:
+                raise WecCosimError(f"plot: {path} is not a RAO file (no /omega); joint RAOs come from "
+                                    "`wec-cosim rao`")
+            omega = f["omega"][()]
+            for text in joints:
+                name, k = joint_selection(text)
+                key = f"joints/{name}/rao"
+                if key not in f or k >= f[key].shape[1]:
+                    continue
+                found.add(text)
+                names = [n.decode() if isinstance(n, bytes) else str(n) for n in f[key].attrs.get("coordinates", [])]
+                label = f"{path.stem}: {name}[{k + 1}]" + (f" ({names[k]})" if k < len(names) else "")
+                rao = f[key][()][:, k]
+                axes[0].plot(omega, np.abs(rao), label=label)
+                axes[1].plot(omega, np.degrees(np.angle(rao)), label=label)
+    missing = [j for j in joints if j not in found]
+    if missing:
+        raise WecCosimError(f"plot: no file given has the joint coordinate(s) {', '.join(missing)}")
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return _save(plt, fig, axes, ("|RAO| (rad/m, m/m)", "phase (deg)"), "wave frequency (rad/s)", target)
 
 
 def plot_heading_sweep(f: h5py.File, target: Path) -> Path:

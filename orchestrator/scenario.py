@@ -341,6 +341,10 @@ class PtoSection:
     damping: float = option(0.0, unit="N s/m or N m s/rad", check=non_negative, doc="damping (power absorption)")
     joint: str = option("", doc="act on this joint's coordinate (revolute angle, prismatic displacement) "
                                 "instead of a body DOF (nonlinear formulations)")
+    joint_coordinate: int = option(1, check=lambda v: None if v >= 1 else "must be 1 or more",
+                                   doc="with `joint`: which of the joint's coordinates (1-based, as the FMU's "
+                                       "`<joint>.coordinate[k]`; spherical and universal joints: 1, 2, 3 = relative "
+                                       "roll, pitch, yaw about the joint frame's x, y, z)")
     body2: str = option("", doc="second body: with `point`/`point2` a point-to-point PTO, otherwise the PTO acts "
                                 "on the relative `dof` of `body2` with respect to `body` at `position`")
     point: list[float] = option(factory=list, unit="m", doc="attachment point on `body` (world, at equilibrium)")
@@ -965,8 +969,16 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
         where = f"{f}: ptos[{i}] ({p.name})"
         if p.joint and p.joint not in joints:
             raise ScenarioError(f"{where}: joint {p.joint!r} is not defined (joints: {', '.join(joints) or 'none'})")
-        if p.joint and joints[p.joint].kind in ("fixed", "spherical", "universal"):
-            raise ScenarioError(f"{where}: a PTO needs a joint with a scalar coordinate, not a {joints[p.joint].kind}")
+        if p.joint:
+            from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+            kind = joints[p.joint].kind
+            count = len(JOINT_COORDINATE_UNITS[kind])
+            if not count:
+                raise ScenarioError(f"{where}: a PTO needs a joint with a coordinate, not a {kind} joint")
+            if p.joint_coordinate > count:
+                raise ScenarioError(f"{where}: joint_coordinate = {p.joint_coordinate} but a {kind} joint has "
+                                    f"{count} coordinate{'s' if count > 1 else ''} (1..{count})")
         if p.body2:
             body(where, "body2", p.body2)
         if p.point or p.point2:

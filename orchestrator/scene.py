@@ -405,7 +405,10 @@ class Scene:
              "position": list(j.position), "axis": list(j.axis), "axis2": list(j.axis2) or None,
              "position2": list(j.position2) or None, "locked": j.locked} for j in s.joints]
         kinds = {j.name: j.kind for j in s.joints}
-        spec["forces"] = [dict(self._force_spec(e), rotational=kinds.get(e.joint) == "revolute") for e in s.forces]
+        from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+        first_unit = {name: (JOINT_COORDINATE_UNITS[kind] or [("", "")])[0][0] for name, kind in kinds.items()}
+        spec["forces"] = [dict(self._force_spec(e), rotational=first_unit.get(e.joint) == "rad") for e in s.forces]
         if dynamic_lines and s.mooring_lines.model == "moordyn":
             self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
@@ -461,8 +464,11 @@ class Scene:
 
     def _pto_coordinate(self, p, joints: dict) -> dict:
         if p.joint:
-            return {"kind": "joint", "joint": p.joint, "index": 0,
-                    "rotational": joints[p.joint].kind in ("revolute",)}
+            from mbd_fmu.joints import JOINT_COORDINATE_UNITS
+
+            index = p.joint_coordinate - 1
+            return {"kind": "joint", "joint": p.joint, "index": index,
+                    "rotational": JOINT_COORDINATE_UNITS[joints[p.joint].kind][index][0] == "rad"}
         if p.point:
             return {"kind": "points", "body1": p.body, "point1": list(p.point),
                     "body2": self._ground(p.body2), "point2": list(p.point2)}

@@ -63,6 +63,11 @@ class Recorder:
         for path, variables in self.multibody_series(scene).items():
             out = [names[MBD].index(v) for v in variables]
             self._add(path, () if path.startswith(("energy/", "mbd/")) else (len(out),), MBD, out, None)
+        for path, variable in self.hydro_energy_series(scene).items():
+            self._add(path, (), HYDRO, [names[HYDRO].index(variable)], None)
+        self.wave_balance = bool(self.hydro_energy_series(scene))
+        if self.wave_balance:
+            self.series["energy/wave_balance"] = ()
 
     @staticmethod
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
@@ -85,10 +90,20 @@ class Recorder:
         for e in s.forces:
             if e.kind == "catenary":  # mooring lines: fairlead force on the body (world frame)
                 out[f"forces/{e.name}/force"] = [f"{e.name}.force[{i + 1}]" for i in range(3)]
-        for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
+        for key in ("kinetic", "potential", "dissipated", "external_work", "pto", "balance"):
             out[f"energy/{key}"] = [f"energy.{key}"]
         out["mbd/constraint_violation"] = ["mbd.constraint_violation"]
         return out
+
+    @staticmethod
+    def hydro_energy_series(scene: Scene) -> dict[str, str]:
+        """Results path -> hydro FMU output of the work of each hydrodynamic force component (nonlinear
+        formulations, whose multibody FMU keeps the rest of the energy account)."""
+        if scene.scenario.formulation == "linear":
+            return {}
+        from hydro_fmu.work import COMPONENTS
+
+        return {f"energy/{c}": f"energy.{c}" for c in COMPONENTS}
 
     def _add(self, name: str, shape: tuple[int, ...], comp: str, out: list[int], cols: list[int] | None) -> None:
         self.series[name] = shape
@@ -101,6 +116,7 @@ class Recorder:
         mbd += [f"{p.name}.{k}" for p in scene.scenario.ptos for k in ("force", "power")]
         mbd += [v for variables in Recorder.multibody_series(scene).values() for v in variables]
         hydro = [f"{b.name}.F[{DOFS.index(d) + 1}]" for b in scene.scenario.hydro_bodies for d in b.dofs]
+        hydro += list(Recorder.hydro_energy_series(scene).values())
         return {MBD: mbd, HYDRO: hydro + ["wave.elevation"]}
 
     def row(self, t: float, outputs: dict[str, np.ndarray]) -> dict[str, np.ndarray | float]:
@@ -113,7 +129,40 @@ class Recorder:
                 full = np.zeros(6)
                 full[cols] = values
                 row[name] = full
+        if self.wave_balance:
+            row["energy/wave_balance"] = wave_balance(row)
         return row
+
+
+def wave_balance(e: dict) -> float:
+    """Residual of the wave-to-wire energy balance (J) from one row's (or whole series') energy terms:
+    ``W_exc - (E_pto + E_radiated + E_dissipated + E_stored - E_stored,0)`` with ``E_radiated = -W_rad``,
+    the dissipation outside the PTOs ``D - E_pto - W_visc`` and the stored energy ``T + V - W_hs`` (kinetic
+    energy with A_inf, potential energy of the multibody model, hydrostatic energy); it equals the work the
+    hydro FMU's forces did minus the work the multibody FMU received, minus the multibody balance."""
+    stored = e["energy/balance"] + e["energy/external_work"] - e["energy/dissipated"]  # T + V - (T0 + V0)
+    return (e["energy/excitation_work"] - e["energy/pto"] + e["energy/radiation_work"]
+            - (e["energy/dissipated"] - e["energy/pto"] - e["energy/viscous_work"])
+            - (stored - e["energy/hydrostatic_work"]))
+
+
+def energy_terms(e: dict) -> dict:
+    """The wave-to-wire energy account's terms (J) from a results file's ``energy/*`` series (arrays, one
+    value per row) or one row's values: work in (excitation), PTO, radiated, dissipated outside the PTOs
+    (viscous, ropes, bushings...), stored (kinetic, potential and hydrostatic, change since the start) and the
+    residual of ``work in = PTO + radiated + dissipated + stored`` (:func:`wave_balance`)."""
+    stored = e["energy/balance"] + e["energy/external_work"] - e["energy/dissipated"]
+    return {"work_in": e["energy/excitation_work"], "pto": e["energy/pto"],
+            "radiated": -e["energy/radiation_work"],
+            "dissipated": e["energy/dissipated"] - e["energy/pto"] - e["energy/viscous_work"],
+            "stored": stored - e["energy/hydrostatic_work"], "residual": wave_balance(e)}
+
+
+def energy_account(data: dict) -> dict[str, float] | None:
+    """The wave-to-wire energy account at the end of a results file (J), or None without one."""
+    if "energy/excitation_work" not in data:
+        return None
+    return energy_terms({k: float(v[-1]) for k, v in data.items() if k.startswith("energy/")})
 
 
 @dataclass
@@ -145,6 +194,8 @@ class RunResult:
     comparisons: list[Comparison] = field(default_factory=list)
     statistics: dict = field(default_factory=dict)
     radiation: dict = field(default_factory=dict)
+    mobility: dict | None = None
+    energy: dict[str, float] | None = None
     notes: list[str] = field(default_factory=list)
     mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
     power_window: str = ""
@@ -172,6 +223,7 @@ class RunPlan:
     settings: dict
     control: ControlLoop | None = None
     radiation: dict = field(default_factory=dict)
+    mobility: dict | None = None
 
     @property
     def series(self) -> dict[str, tuple[int, ...]]:
@@ -184,6 +236,8 @@ class RunPlan:
                "versions": versions(), "settings": self.settings, "hydro_database": str(self.scene.hdb_file)}
         if self.control:
             out["control_manifest"] = self.control.manifest.to_json()
+        if self.mobility:
+            out["mobility"] = self.mobility
         if scenario.multibody.static_equilibrium:
             out["static_equilibrium"] = self.scene.equilibrium().as_dict()
         return out
@@ -247,7 +301,20 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     else:
         controller = FixedStepController(sim.step, 0.0)
     control = control_loop(scene, master) if scenario.control.mode != "off" else None
-    return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control)
+    report = mobility(scene)
+    if report and log is not None:
+        log(f"multibody: {report['summary']}")
+    return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+
+
+def mobility(scene: Scene) -> dict | None:
+    """DOF count and redundant constraint rows of a constrained scene at its start pose (the multibody
+    FMU's own analysis, ``mbd_fmu.assembly.analyse``, run in-process), or None for the linear model."""
+    if scene.scenario.formulation == "linear":
+        return None
+    r = scene.multibody_simulator().report
+    return {"coordinates": r.coordinates, "constraints": r.constraints, "rank": r.rank, "dof": r.dof,
+            "redundant": list(r.redundant), "summary": r.summary()}
 
 
 @dataclass
@@ -409,11 +476,14 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     except OSError as exc:  # the last rows could not be flushed
         _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
-                       radiation=plan.radiation)
+                       radiation=plan.radiation, mobility=plan.mobility)
+    data = read_results(writer.path) if plan.recorder.wave_balance else None
+    if data is not None:
+        result.energy = energy_account(data)
     if scenario.waves.kind == "regular" and not control:  # an external law has no frequency-domain answer
         needed = scenario.ramp_time + sim.steady_periods * scenario.waves.period
         if sim.duration >= needed:
-            result.comparisons = compare_with_frequency_domain(plan.scene, read_results(writer.path))
+            result.comparisons = compare_with_frequency_domain(plan.scene, data or read_results(writer.path))
         else:
             result.notes.append(
                 f"no comparison with the exact steady state: the run ({sim.duration:g} s) is shorter than the ramp "
@@ -550,6 +620,16 @@ def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:
     return out
 
 
+def _powers_text(powers: dict[str, float], many: int = 6) -> str:
+    """Each PTO's mean power, or for more than ``many`` PTOs their total and the three largest (W or kW)."""
+    scale, unit = (1e3, "kW") if max(abs(p) for p in powers.values()) * len(powers) >= 1e3 else (1.0, "W")
+    if len(powers) <= many:
+        return ", ".join(f"{name} {p / scale:.4g} {unit}" for name, p in powers.items())
+    largest = sorted(powers.items(), key=lambda item: -item[1])[:3]
+    return (f"total {sum(powers.values()) / scale:.4g} {unit} of {len(powers)} PTOs; largest "
+            + ", ".join(f"{name} {p / scale:.4g} {unit}" for name, p in largest))
+
+
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
@@ -562,6 +642,12 @@ def format_summary(result: RunResult) -> str:
             lines.append(
                 f"  {c.label:<24}{abs(c.measured):>13.5g} {c.unit:<2}{abs(c.exact):>13.5g} {c.unit:<2}"
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
+    e = result.energy
+    if e:
+        scale = max(abs(e["work_in"]), 1e-300)
+        lines.append("energy account (J): " + ", ".join(
+            f"{k.replace('_', ' ')} {e[k]:.6g}" for k in ("work_in", "pto", "radiated", "dissipated", "stored"))
+            + f"; residual {e['residual']:.3g} ({100 * e['residual'] / scale:.3g} % of the work in)")
     st = result.statistics
     if "mean_iterations" in st:
         lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "
@@ -577,8 +663,7 @@ def format_summary(result: RunResult) -> str:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
     if result.mean_power:
-        lines.append(f"mean PTO power ({result.power_window}): "
-                     + ", ".join(f"{name} {p / 1e3:.4g} kW" for name, p in result.mean_power.items()))
+        lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "

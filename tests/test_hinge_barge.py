@@ -98,6 +98,13 @@ def test_cosimulated_hinge_barge_matches_the_exact_frequency_domain_answer(tmp_p
         assert abs(a2) / abs(a1) > 1.6 and abs(p2) / max(abs(p1), 1e-3) > 1.6
     energy = {k: data[f"energy/{k}"] for k in ("dissipated", "external_work", "balance")}
     assert np.max(np.abs(energy["balance"])) < 0.01 * np.max(np.abs(energy["external_work"]))
+    # The PTO is the only damper: its energy is the dissipation, and the integral of its recorded power
+    # (a pure dash-pot: no stored part); the wave-to-wire account closes (docs/results.md).
+    pto = data["energy/pto"]
+    np.testing.assert_allclose(pto, energy["dissipated"], rtol=1e-12, atol=1e-12)
+    power_integral = np.trapezoid(data["ptos/pto/power"], data["time"])
+    assert pto[-1] == pytest.approx(power_integral, rel=1e-3)
+    assert abs(data["energy/wave_balance"][-1]) < 0.01 * data["energy/excitation_work"][-1]
 
 
 def hinge_errors(s, data: dict, fd) -> list[tuple[float, float]]:

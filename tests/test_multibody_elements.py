@@ -260,3 +260,27 @@ def test_nonlinear_pto_law_derivatives_and_energy_balance() -> None:
     e = sim.energy()
     assert e["dissipated"] > 0.5 * e0  # the law took most of the energy out
     assert abs(e["balance"]) < 1e-3 * e0
+
+
+def test_relative_rotation_rate_is_the_jacobian_times_the_velocities() -> None:
+    """``RotationComponent.rate`` (what PTOs and bushings use, without the curvature term) returns the value
+    and Jacobian of ``evaluate`` and the rate ``jac . w``; the rate also equals the finite-difference
+    derivative of the value along the motion (a large relative rotation, all three components)."""
+    from mbd_fmu.rotations import exp_so3
+
+    node = RigidBody("node", 10.0, np.diag([1.0, 2.0, 3.0]), np.zeros(3))
+    arm = mech.rod("arm", (1.0, 0, 0), (1, 0, 0), 4.0, 2.0)
+    model = MultibodyModel([node, arm], [Joint("ball", "spherical", "node", "arm", (0, 0, 0))])
+    pose = model.reference.copy()
+    pose.R[0] = exp_so3(np.array([0.3, -0.5, 0.2]))
+    pose.R[1] = exp_so3(np.array([-0.4, 0.9, 0.6]))
+    v = np.array([0.1, -0.2, 0.3, 0.7, -0.4, 0.5, -0.3, 0.2, 0.1, -0.6, 0.8, 0.2])
+    for k in range(3):
+        c = model.joints[0].coordinates[k]
+        value, rate, jac = c.rate(model.kin(pose, v))
+        ref_value, ref_jac, _ = c.evaluate(model.kin(pose, v))
+        assert value == ref_value and np.array_equal(jac, ref_jac)
+        h = 1e-6
+        ahead = c.rate(model.kin(pose.retract(model.full(h * v)), v))[0]
+        behind = c.rate(model.kin(pose.retract(model.full(-h * v)), v))[0]
+        assert rate == pytest.approx((ahead - behind) / (2 * h), rel=1e-6)
