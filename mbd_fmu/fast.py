@@ -43,6 +43,8 @@ def unsupported(model: MultibodyModel) -> list[str]:
     for e in model.elements:
         if type(e) is LinearMooring:
             continue
+        if type(e).__name__ == "LinearisedInputForce" and not e.active:
+            continue  # the host interface's input force before a host sets it: no force, no tangent
         if type(e) is CoordinateSpringDamper and type(e.coordinate) in _COORDINATE_KIND:
             continue
         out.append(f"force element {e.name!r} ({type(e).__name__} on {type(getattr(e, 'coordinate', None)).__name__})")

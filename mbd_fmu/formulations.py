@@ -151,11 +151,13 @@ class Formulation:
     @property
     def compiled(self) -> CompiledModel | None:
         """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path; looked at again
-        when elements or drivers are added to the model (e.g. an FMU's input-force element after the start)."""
+        when elements or drivers are added to the model (e.g. an FMU's input-force element after the start) or
+        when that element is switched on (a host sets the linearised force interface)."""
         if self.python_path:
             return None
         m = self.model
-        signature = (len(m.elements), type(m.elements[-1]).__name__ if m.elements else "", len(m.drivers))
+        last = m.elements[-1] if m.elements else None  # an FMU appends its input-force element last
+        signature = (len(m.elements), type(last).__name__, getattr(last, "active", None), len(m.drivers))
         changed = signature != getattr(self, "_signature", None)
         if self._compiled is False or changed:
             # after a restore the plan is rebuilt from the same model: the saved factors stay valid (a restored

@@ -144,3 +144,33 @@ def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path
     assert outputs[0] == outputs[1]
     assert any(e.endswith(".nbi") for e in entries[0])
     assert entries[1] == entries[0]
+
+
+def test_host_input_force_keeps_the_compiled_path_until_a_host_switches_it_on() -> None:
+    """The multibody FMU appends the linearised force interface's element after the start. With its inputs at
+    zero (our own masters) it adds nothing and the compiled path stays; once a host sets it, the model is looked
+    at again and runs on the Python path (which integrates the element's tangent); both take the same step as
+    a model built the same way on the Python path from the start."""
+    from mbd_fmu.force_elements import LinearisedInputForce
+
+    def build():
+        model, pose, v = two_bodies("revolute")
+        sim = MultibodySimulator(model, Settings("index3", spectral_radius=0.8))
+        sim.start(pose, v)
+        element = LinearisedInputForce(np.array([0]), np.array([2]), model.cg)
+        model.elements.append(element)
+        return sim, element
+
+    sim, element = build()
+    assert sim.formulation.compiled is not None
+    sim.advance(0.01, np.zeros(sim.model.n))
+    restart = element.set(sim.formulation.t, np.array([1.0e3]), np.zeros(1), np.array([[-2.0e4]]), np.zeros((1, 1)))
+    assert restart and element.active
+    sim.advance(0.01, restart=True)
+    assert sim.formulation.compiled is None
+    ref, ref_element = build()
+    ref.formulation.python_path = True
+    ref.advance(0.01, np.zeros(ref.model.n))
+    ref_element.set(ref.formulation.t, np.array([1.0e3]), np.zeros(1), np.array([[-2.0e4]]), np.zeros((1, 1)))
+    ref.advance(0.01, restart=True)
+    np.testing.assert_allclose(sim.formulation.v, ref.formulation.v, rtol=1e-8, atol=1e-10)
