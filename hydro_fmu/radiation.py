@@ -41,8 +41,8 @@ from .transforms import fourier_integral
 
 # Tail correction of :func:`kramers_kronig_tail`: hats at Omega r^j, j = 1..count, ridge weight.
 TAIL_RATIO = 1.25
-TAIL_COUNT = 4
-TAIL_SMOOTHING = 1e-4
+TAIL_COUNT = 3
+TAIL_SMOOTHING = 1e-3
 
 
 def impulse_response(omega: np.ndarray, damping: np.ndarray, t: np.ndarray) -> np.ndarray:

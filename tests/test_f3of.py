@@ -227,7 +227,7 @@ def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     data = run(s, tmp_path)
     omega = 2 * math.pi / period
     x = np.column_stack([data[f"bodies/{b}/displacement"][:, j] for b, j in RAO_COORDINATES])
-    measured, _ = fit_forced(data["time"], x, omega, 1, (3 * period + 60.0, 300.0))
+    measured, free = fit_forced(data["time"], x, omega, 1, (3 * period + 60.0, 300.0))
     scene = load_scene(s, log=None)
     out = []
     for radiation in ("database", "impulse_response"):
@@ -238,7 +238,9 @@ def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     database, kernel = out
     print(f"T = {period:g} s: largest amplitude error {100 * np.abs(database[:, 0]).max():.2f} %, "
           f"phase {np.abs(database[:, 1]).max():.2f} deg (against the kernel's own A, B: "
-          f"{100 * np.abs(kernel[:, 0]).max():.2f} %, {np.abs(kernel[:, 1]).max():.2f} deg)")
+          f"{100 * np.abs(kernel[:, 0]).max():.2f} %, {np.abs(kernel[:, 1]).max():.2f} deg); worst: "
+          f"{RAO_COORDINATES[int(np.argmax(np.abs(database[:, 0])))]}, free mode fitted "
+          f"{[(round(m.period, 2), round(m.damping_ratio, 4)) for m in free.modes]}")
     return database, kernel
 
 
