@@ -970,12 +970,13 @@ def committed(ip, fp, pr, pR, v, refs):
 
 @njit
 def powers(ip, fp, pr, pR, v, inputs, refs):
-    """(dissipated power, power supplied from outside) of the compiled elements and the input
-    (MultibodySimulator.powers; the compiled path has no drivers)."""
+    """(dissipated power, power supplied from outside, each spring's dissipated power (E,)) of the compiled
+    elements and the input (MultibodySimulator.powers; the compiled path has no drivers)."""
     plan = unpack(ip, fp)
     rr, RR, W = snapshot(pr, pR, v, plan[0])
     diss = 0.0
     supply = 0.0
+    spring = np.zeros(plan[19].shape[0])
     for q in range(plan[13].shape[0]):
         b = plan[13][q]
         kd = plan[14][q]
@@ -996,11 +997,12 @@ def powers(ip, fp, pr, pR, v, inputs, refs):
         value, rate, _ = coordinate(plan, s, rr, RR, W, refs[s])
         x = value - par[3]
         if par[4] == 0.0 and par[5] == 0.0 and par[6] == 0.0:
-            diss += par[1] * rate * rate
+            spring[e] = par[1] * rate * rate
         else:
-            diss += -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+            spring[e] = -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+        diss += spring[e]
         supply += par[2] * rate
-    return diss, supply + _vdot(inputs, v)
+    return diss, supply + _vdot(inputs, v), spring
 
 
 # ---------------------------------------------------------------------------------------------- index-1 RKMK
