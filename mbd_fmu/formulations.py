@@ -140,6 +140,9 @@ class Formulation:
         self._row_search: tuple[int, float] | None = None  # (step, best row quality) of the last search
         self._quality: tuple[int, float] | None = None  # (step, kept rows' quality) after a compiled step
         self._compiled: CompiledModel | None | bool = False  # False: not looked at yet
+        # (steps, dissipated power, supplied power, springs' dissipated powers) at the end of the last compiled
+        # index-3 step (its kernel computes them); None after a restart (new inputs or PTO commands)
+        self.end_powers: tuple | None = None
         self.python_path = False  # True: never use the compiled path (comparisons, benchmarks)
 
     def __getstate__(self) -> dict:
@@ -180,6 +183,7 @@ class Formulation:
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         self.check_model()
+        self.end_powers = None
         self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
         if inputs is not None:
             self.inputs = np.array(inputs, float)
@@ -199,6 +203,7 @@ class Formulation:
 
     def on_restart(self) -> None:
         self.check_model()
+        self.end_powers = None
         self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
 
     def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -291,6 +296,7 @@ class Index3(Formulation):
     def on_restart(self) -> None:
         if self.settings.restart == "none":
             self.check_model()
+            self.end_powers = None
             return
         super().on_restart()
         self.a = None
@@ -453,7 +459,10 @@ class Index3(Formulation):
         self._quality = (self.steps + 1, quality)
         self.t += h
         self.steps += 1
-        cm.commit(out[k + 2 * n:])
+        s = k + 2 * n + len(cm.refs)
+        cm.commit(out[k + 2 * n:s])
+        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
+        self.end_powers = (self.steps, float(out[s]), float(out[s + 1]), out[s + 2:])
         return True
 
 

@@ -91,6 +91,7 @@ class MultibodySimulator:
                 p.set_command(k, c, u)
                 changed = True
         if changed:
+            self.formulation.end_powers = None
             self._outputs = None  # the PTO forces of the kept outputs were those of the old commands
             self.formulation.on_restart()
 
@@ -148,8 +149,12 @@ class MultibodySimulator:
         m, f = self.model, self.formulation
         cm = f.compiled
         if cm is not None:
-            diss, supply, springs = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs,
-                                                   cm.refs)
+            end = f.end_powers
+            if end is not None and end[0] == f.steps:  # computed by the step that led here
+                diss, supply, springs = end[1:]
+            else:
+                diss, supply, springs = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs,
+                                                       cm.refs)
             return diss, supply, sum(float(springs[cm.spring_position[id(m.elements[i])]]) for i in self._pto_index)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]
@@ -223,10 +228,13 @@ class MultibodySimulator:
         compiled = self.compiled_outputs()
         if compiled is not None:
             cm = self.formulation.compiled
-            qv = compiled["coordinates"][[cm.coordinate_position[id(p.coordinate)] for p in self.ptos]]
-            force = compiled["spring_forces"][[cm.spring_position[id(p)] for p in self.ptos]]
-            return np.column_stack([qv[:, 0] - np.array([p.neutral for p in self.ptos]), qv[:, 1], force,
-                                    -force * qv[:, 1]])
+            coords, forces = compiled["coordinates"], compiled["spring_forces"]
+            out = np.empty((len(self.ptos), 4))
+            for row, p in zip(out, self.ptos, strict=True):
+                q, v = coords[cm.coordinate_position[id(p.coordinate)]].tolist()
+                force = forces.item(cm.spring_position[id(p)])
+                row[:] = (q - p.neutral, v, force, -force * v)
+            return out
         k = self.kin
         rows = []
         for p in self.ptos:

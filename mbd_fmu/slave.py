@@ -277,7 +277,7 @@ class MultibodySlave(VectorSlave):
             getattr(self, f"_update_{group}")()
             self._fresh.add(group)
         slot = self._slot
-        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+        return [slot[vr][0].item(slot[vr][1]) for vr in vrs]
 
     def _update_motion(self) -> None:
         sim = self.system
