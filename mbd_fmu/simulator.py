@@ -149,7 +149,7 @@ class MultibodySimulator:
         m, f = self.model, self.formulation
         cm = f.compiled
         if cm is not None:
-            end = f.end_powers
+            end = getattr(f, "end_powers", None)  # (absent from states saved by earlier versions)
             if end is not None and end[0] == f.steps:  # computed by the step that led here
                 diss, supply, springs = end[1:]
             else:
