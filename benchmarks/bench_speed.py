@@ -15,13 +15,21 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    hydrostatic-like mooring (heave 1e4 N/m, roll and pitch 1e4 N m/rad, weak surge, sway, yaw),
    neighbours hinged about y; a different wave-like heave force on each body held over each 0.01 s step
    (the co-simulation case: a new input every step, so the formulation restarts every step); microseconds
-   per step of each formulation (index-3, index-1 and null-space, RK4 for the latter two).
+   per step of each formulation (index-3, index-1 and null-space, RK4 for the latter two), and of index-3
+   with the increment restart (``Settings(restart="increment")``: one consistent-acceleration solve per
+   restart instead of three).
 3. The hinge barge (scenarios/hinge_barge.toml, default settings: index-3, 0.02 s macro step,
    0.01 s multibody step, both FMUs through fmpy): real-time factor of the stepping loop and the steady
    heave and pitch errors against the exact frequency-domain answer, compiled and Python paths, and
-   the compiled path with the slaves called in-process (the FMI layer's share).
+   the compiled path with the slaves called in-process (the FMI layer's share); the stepping loop's
+   process CPU time is reported beside the wall clock (the steadier figure on a loaded machine).
+   Then seed 000's F3OF decay test 3 (scenarios/f3of_dt3.toml as bundled: index-3, 0.1 s step, 120 s,
+   three bodies, two hinges): the same figures, and the errors of the period and damping ratio of its two
+   free modes fitted to the run (``orchestrator.decay.fit_decay``, 20 s to the end) against the linear
+   model's roots (``orchestrator.decay.natural_modes``, as tests/test_f3of.py does over a longer run).
 
 Run: python benchmarks/bench_speed.py --out benchmarks/results/speed.txt   (about 5-10 min)
+     python benchmarks/bench_speed.py --sections 3                          (part 3 only)
 """
 
 from __future__ import annotations
@@ -111,10 +119,11 @@ def four_bar_model():
     return model, model.reference.copy(), np.array([v6[model.index(b), d] for b, d in model.coordinates])
 
 
-def run_ours(build, formulation: str, h: float, steps: int, compiled: bool = True, inputs=None):
+def run_ours(build, formulation: str, h: float, steps: int, compiled: bool = True, inputs=None,
+             restart: str = "consistent"):
     """(seconds per step, simulator at the end)."""
     model, pose, v = build()
-    sim = MultibodySimulator(model, Settings(formulation, spectral_radius=RHO))
+    sim = MultibodySimulator(model, Settings(formulation, spectral_radius=RHO, restart=restart))
     if not compiled:
         sim.formulation.python_path = True
     sim.start(pose, v)
@@ -232,23 +241,69 @@ def wave_inputs(t: float, model) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- hinge barge
-def hinge_barge(compiled: bool, duration: float, in_process: bool = False) -> tuple[float, list]:
-    """(real-time factor of the stepping loop, comparisons with the frequency-domain answer), through fmpy."""
+def run_scene(name: str, compiled: bool, duration: float | None, in_process: bool = False):
+    """(wall and CPU real-time factors of the stepping loop, the run's result, its results) of a bundled
+    scenario, through fmpy unless ``in_process``; ``duration`` None: the scenario's own."""
+    from orchestrator import masters
+    from orchestrator.results import read_results
     from orchestrator.scenario import load_scenario
     from orchestrator.simulation import run_scenario
 
-    s = load_scenario(ROOT / "scenarios" / "hinge_barge.toml")
-    s.simulation.duration = duration
+    s = load_scenario(ROOT / "scenarios" / f"{name}.toml")
+    if duration is not None:
+        s.simulation.duration = duration
     env = dict(os.environ)
     if not compiled:
         os.environ["WEC_COSIM_NO_JIT"] = "1"
+    run, cpu = masters.Master.run, []
+
+    def timed(self, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN202 - the stepping loop's CPU time
+        start = time.process_time()
+        try:
+            return run(self, *args, **kwargs)
+        finally:
+            cpu.append(time.process_time() - start)
+
+    masters.Master.run = timed
     try:
         with tempfile.TemporaryDirectory() as tmp:
             result = run_scenario(s, Path(tmp) / "run.h5", progress=False, log=None, in_process=in_process)
+            data = read_results(result.path)
     finally:
+        masters.Master.run = run
         os.environ.clear()
         os.environ.update(env)
-    return duration / result.wall_time, result.comparisons
+    sim = s.simulation.duration
+    return (sim / result.wall_time, sim / cpu[-1]), result, data
+
+
+def hinge_barge(compiled: bool, duration: float, in_process: bool = False) -> tuple[tuple[float, float], list]:
+    """((wall, CPU) real-time factors of the stepping loop, comparisons with the frequency-domain answer)."""
+    rtf, result, _ = run_scene("hinge_barge", compiled, duration, in_process)
+    return rtf, result.comparisons
+
+
+def f3of_dt3_errors(data: dict, window_start: float = 20.0) -> list[tuple[float, float]]:
+    """F3OF DT3: (period, damping ratio) relative errors of its two free modes (flaps pitching the same way and
+    mirror-wise: half sum and half difference of the pitches) fitted from ``window_start`` to the end of the run,
+    against the linear model's roots (tests/test_f3of.py's check, on the bundled run's length)."""
+    from orchestrator.decay import fit_decay, natural_modes
+    from orchestrator.scenario import load_scenario
+    from orchestrator.scene import load_scene
+
+    scene = load_scene(load_scenario(ROOT / "scenarios" / "f3of_dt3.toml"), log=None)
+    coords = list(scene.multibody_simulator().model.coordinates)
+    p1, p2 = coords.index(("flap1", 4)), coords.index(("flap2", 4))
+    modes = natural_modes(scene)
+    same = next(m for m in modes if np.real(m.shape[p1] / m.shape[p2]) > 0)
+    mirror = next(m for m in modes if np.real(m.shape[p1] / m.shape[p2]) < 0)
+    t = data["time"]
+    a, b = data["bodies/flap1/displacement"][:, 4], data["bodies/flap2/displacement"][:, 4]
+    out = []
+    for channel, root in (((a + b) / 2, same), ((a - b) / 2, mirror)):
+        m = fit_decay(t, channel, 1, (window_start, float(t[-1]))).modes[0]
+        out.append((m.period / root.period - 1, m.damping_ratio / root.damping_ratio - 1))
+    return out
 
 
 # ---------------------------------------------------------------------------------------------- report
@@ -262,6 +317,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--out", default="", help="also write the report to this file")
     p.add_argument("--quick", action="store_true", help="fewer repeats and steps (a smoke run)")
+    p.add_argument("--sections", default="123", help="which parts to run (default 123: all)")
     args = p.parse_args()
     repeats = 1 if args.quick else 5
     steps = int(T_END / H)
@@ -284,6 +340,18 @@ def main() -> None:
     run_ours(pendulum_model, "index3", H, 2)
     lines.append(f"# kernels ready in {time.perf_counter() - t_start:.2f} s (cache load or first compilation)")
 
+    if "1" in args.sections:
+        section_1(lines, repeats, steps)
+    if "2" in args.sections:
+        section_2(lines, repeats, args.quick)
+    if "3" in args.sections:
+        section_3(lines, args.quick)
+    lines.append(f"# load average at the end {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+                 f"benchmark wall time {time.perf_counter() - t_start:.0f} s")
+    write_report(lines, args.out)
+
+
+def section_1(lines: list[str], repeats: int, steps: int) -> None:
     lines += ["", "## 1. Issue table: project vs Exudyn, h = 1 ms, spectral radius 0.8, 1 s simulated; us per step "
               f"(minimum of {repeats} runs, the engines alternating), wall clock and process CPU time",
               f"{'mechanism':<12}{'engine':<22}{'wall us':>9}{'ratio':>7}{'CPU us':>9}{'ratio':>7}{'error at 1 s':>15}"]
@@ -303,14 +371,28 @@ def main() -> None:
         print("\n".join(lines[-3:]), flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
+
+def section_2(lines: list[str], repeats: int, quick: bool) -> None:
     lines += ["", "## 2. N floating bodies (row of hinged cubes on moorings), h = 0.01 s, new input every step; "
-              "us per step, wall and CPU (index-3 and index-1 compiled; null-space: Python stepping, compiled solves)",
-              f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'index1':>10}{'cpu':>8}{'nullspace':>10}{'cpu':>8}"]
+              "us per step, wall and CPU (index-3 and index-1 compiled; null-space: Python stepping, compiled solves); "
+              "'incr': index-3 with restart = 'increment' (one consistent-acceleration solve per restart instead of "
+              "three, order 2 kept: tests/test_multibody_mechanisms.py; results differ from the default restart "
+              "within the method's error, column 'diff': largest cg position difference after the run, m)",
+              f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'incr':>8}{'cpu':>8}{'diff':>9}{'index1':>10}{'cpu':>8}"
+              f"{'nullspace':>10}{'cpu':>8}"]
     for n in (1, 2, 4, 8, 16, 32):
-        k = max(20, 400 // n) if not args.quick else 20
-        row = [best(lambda f=f, n=n, k=k: (run_ours(lambda: floating_row(n), f, 0.01, k, inputs=wave_inputs)[0],
-                                           None), repeats)[0] for f in ("index3", "index1", "nullspace")]
-        lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
+        k = max(20, 400 // n) if not quick else 20
+        row, sims = [], []
+        for f, restart in (("index3", "consistent"), ("index3", "increment"), ("index1", "consistent"),
+                           ("nullspace", "consistent")):
+            t, sim = best(lambda f=f, n=n, k=k, restart=restart: run_ours(
+                lambda: floating_row(n), f, 0.01, k, inputs=wave_inputs, restart=restart), repeats)
+            row.append(t)
+            sims.append(sim)
+        diff = float(np.abs(sims[0].formulation.pose.r - sims[1].formulation.pose.r).max())
+        cells = [f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row]
+        cells[1] = f"{row[1][0] * 1e6:8.0f}{row[1][1] * 1e6:8.0f}{diff:9.1e}"
+        lines.append(f"{n:4d}{6 * n:8d}" + "".join(cells))
         print(lines[-1], flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
@@ -320,27 +402,38 @@ def main() -> None:
               "h = 1 ms, no input; us per step, wall and CPU",
               f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'index1':>10}{'cpu':>8}{'nullspace':>10}{'cpu':>8}"]
     for n in (20, 40):
-        k = 10 if args.quick else 60
+        k = 10 if quick else 60
         row = [best(lambda f=f, n=n, k=k: (run_ours(lambda: (*chain(n), np.zeros(6 * n)), f, H, k)[0], None),
                     min(repeats, 3))[0] for f in ("index3", "index1", "nullspace")]
         lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
         print(lines[-1], flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
-    duration = 10.0 if args.quick else 40.0
+
+def section_3(lines: list[str], quick: bool) -> None:
+    duration = 10.0 if quick else 40.0
     lines += ["", f"## 3. Hinge barge, default settings, {duration:g} s through fmpy: real-time factor of the stepping "
-              "loop and steady errors against the frequency-domain answer",
-              f"{'path':<30}{'RTF':>8}  errors (amplitude %, phase deg)"]
+              "loop (wall clock; process CPU time) and steady errors against the frequency-domain answer",
+              f"{'path':<30}{'RTF':>8}{'CPU':>7}  errors (amplitude %, phase deg)"]
     for label, compiled, in_process in (("compiled", True, False), ("python", False, False),
                                         ("compiled, in-process slaves", True, True)):
-        rtf, comps = hinge_barge(compiled, duration, in_process)
+        (rtf, rtf_cpu), comps = hinge_barge(compiled, duration, in_process)
         errs = ", ".join(f"{c.label} {100 * c.amplitude_error:+.2f}%/{c.phase_error_deg:+.2f}" for c in comps
                          if "heave" in c.label or "pitch" in c.label or "power" in c.label)
-        lines.append(f"{label:<30}{rtf:8.1f}  {errs}")
+        lines.append(f"{label:<30}{rtf:8.1f}{rtf_cpu:7.1f}  {errs}")
         print(lines[-1], flush=True)
-    lines.append(f"# load average at the end {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
-                 f"benchmark wall time {time.perf_counter() - t_start:.0f} s")
-    write_report(lines, args.out)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    duration = 30.0 if quick else 400.0
+    lines += ["", f"## 3b. F3OF decay test 3 (seed 000), as bundled (index-3, 0.1 s step) over {duration:g} s "
+              "(tests/test_f3of.py's run): real-time factor (target >= 100) and the two free modes' period and "
+              "damping-ratio errors against the linear model's roots (fit from 20 s to the end; the mirror-wise mode "
+              "is almost undamped and, from 10 deg, measurably nonlinear: docs/f3of.md)",
+              f"{'path':<30}{'RTF':>8}{'CPU':>7}  errors (period %, damping ratio %: same-way mode; mirror mode)"]
+    for label, in_process in (("compiled", False), ("compiled, in-process slaves", True)):
+        (rtf, rtf_cpu), _, data = run_scene("f3of_dt3", True, duration, in_process)
+        errs = "; ".join(f"{100 * p:+.2f}%, {100 * d:+.1f}%" for p, d in f3of_dt3_errors(data))
+        lines.append(f"{label:<30}{rtf:8.1f}{rtf_cpu:7.1f}  {errs}")
+        print(lines[-1], flush=True)
 
 
 if __name__ == "__main__":

@@ -261,7 +261,7 @@ class VectorSlave(Fmi2Slave):
             self.update_outputs()
             self._outputs_stale = False
         slot = self._slot
-        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+        return [slot[vr][0].item(slot[vr][1]) for vr in vrs]
 
     def set_real(self, vrs: list[int], values: list[float]) -> None:
         slot = self._slot

@@ -106,6 +106,7 @@ class HydroSlave(VectorSlave):
         self.set_default_experiment(self.spec)
         self._register_parameters()
         self._register_body_variables()
+        self._affine_fresh = False
         self._register_coupling()
         self._register_added_mass()
         self._register_report()
@@ -187,6 +188,8 @@ class HydroSlave(VectorSlave):
                            description=group.description, depends_on=deps[group.key])
         self._pattern_index = {key: tuple(np.array(getattr(self.pattern, key), dtype=int).reshape(-1, 2).T)
                                for key in ("stiffness", "damping")}
+        self._affine_vrs = {vr for key in ("F0", "F0_rate", "dF_dx", "dF_dv")
+                            for vr, (a, _) in self._slot.items() if a is self._arrays[key]}
 
     def _register_added_mass(self) -> None:
         index = [6 * b + d for b, ds in enumerate(self.dofs) for d in ds]
@@ -280,14 +283,9 @@ class HydroSlave(VectorSlave):
     def update_outputs(self) -> None:
         assert self.model is not None
         x, v = self.array("x"), self.array("v")
-        f = self.model.forces(self.time, x, v)
+        f = self._forces = self.model.forces(self.time, x, v)
+        self._affine_fresh = False
         self.array("F")[:] = f.total
-        if self.pattern is not None:
-            a = self.model.affine(self.time, x, v, self.pattern, f)
-            self.array("F0")[:] = a.constant
-            self.array("F0_rate")[:] = a.rate
-            self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
-            self.array("dF_dv")[:] = a.dfdv[self._pattern_index["damping"]]
         for key, value in (("F_exc", f.excitation), ("F_rad", f.radiation), ("F_hs", f.hydrostatic),
                            ("F_visc", f.viscous)):
             if key in self._arrays:
@@ -295,6 +293,26 @@ class HydroSlave(VectorSlave):
         self.array("wave.elevation")[0] = self.model.elevation(self.time)
         self._power = WorkAccount.powers(f.excitation, f.radiation, f.hydrostatic, f.viscous, self.array("v"))
         self.array("energy")[:] = self.work.value(self.time, self._power)
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """Outputs of the current point; the linearised force interface's (F0, F0_rate, dF_dx, dF_dv) only when a
+        host reads them (a master using the plain force ``F`` does not pay for them). Its memory rate is the
+        backward difference between the last two points where it was read (every point for a host that reads
+        it at every step, as the interface expects)."""
+        if self._outputs_stale and self._ready:
+            self.update_outputs()
+            self._outputs_stale = False
+        if self.pattern is not None and self._ready and not self._affine_fresh and not self._affine_vrs.isdisjoint(vrs):
+            self._update_affine()
+        return super().get_real(vrs)
+
+    def _update_affine(self) -> None:
+        a = self.model.affine(self.time, self.array("x"), self.array("v"), self.pattern, self._forces)
+        self.array("F0")[:] = a.constant
+        self.array("F0_rate")[:] = a.rate
+        self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
+        self.array("dF_dv")[:] = a.dfdv[self._pattern_index["damping"]]
+        self._affine_fresh = True
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         if self._outputs_stale:  # the power at this point (its inputs set, outputs maybe not read)

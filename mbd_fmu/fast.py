@@ -96,6 +96,7 @@ class CompiledModel:
                                for e in moorings], dtype=float).reshape(-1, 2, 6, 6),
                      np.array([e.r0 for e in moorings], dtype=float).reshape(-1, 3)]
         self.springs = [e for e in m.elements if isinstance(e, CoordinateSpringDamper)]
+        self.spring_position = {id(e): i for i, e in enumerate(self.springs)}
         coords: list = []
         for e in self.springs:
             if all(c is not e.coordinate for c in coords):
@@ -103,6 +104,11 @@ class CompiledModel:
         for cj in m.joints:
             coords += [c for c in cj.coordinates if type(c) in _COORDINATE_KIND and all(c is not d for d in coords)]
         self.coordinates = coords
+        self.coordinate_position = {id(c): i for i, c in enumerate(coords)}
+        positions = [[self.coordinate_position.get(id(c)) for c in cj.coordinates] for cj in m.joints]
+        # each joint's coordinates among the compiled ones (None: some are not compiled, read on the Python side)
+        self.joint_coordinates = None if any(None in p for p in positions) else [
+            np.array(p, dtype=np.int64) for p in positions]
         self.angles = [(s, c) for s, c in enumerate(coords) if type(c) is Angle]
         kind, cbody, cvec = [], [], []
         for c in coords:

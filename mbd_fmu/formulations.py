@@ -32,7 +32,11 @@ algorithmic acceleration ``a``, which approximates ``v'(t + Delta h)`` (``Delta 
 alpha_f``); on a jump it is reset from the new consistent acceleration and its derivative,
 ``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` by a central difference
 of the consistent acceleration along the motion. This keeps second order when the input
-changes every step (``restart="consistent"``); ``"acceleration"`` (``a = v'``) and ``"none"``
+changes every step (``restart="consistent"``). ``"increment"`` adds the jump of the consistent
+acceleration to ``a`` (``a += v'_new - v'_old``: one consistent-acceleration solve instead of three); its
+error in ``a`` is ``Delta h`` times the jump of ``v''``, O(h) times the input's change, so it keeps second
+order for inputs that change by O(h) per step (the master's extrapolated forces) and loses nothing at an
+isolated jump. ``"acceleration"`` (``a = v'``) and ``"none"``
 (keep ``a``) are available for comparison. When the shift is larger than half the acceleration
 (stiff components, ``h |lambda| >> 1``, e.g. regularised friction) the Taylor shift is meaningless
 and ``a = v'`` is used for that restart.
@@ -56,7 +60,7 @@ from .model import MultibodyModel
 
 FORMULATIONS = ("index3", "index1", "nullspace")
 _NO_LU, _NO_PIV = np.zeros((0, 0)), np.zeros(0, dtype=np.int64)
-RESTARTS = ("consistent", "acceleration", "none")
+RESTARTS = ("consistent", "increment", "acceleration", "none")
 
 
 class Factorized:
@@ -140,6 +144,9 @@ class Formulation:
         self._row_search: tuple[int, float] | None = None  # (step, best row quality) of the last search
         self._quality: tuple[int, float] | None = None  # (step, kept rows' quality) after a compiled step
         self._compiled: CompiledModel | None | bool = False  # False: not looked at yet
+        # (steps, dissipated power, supplied power, springs' dissipated powers) at the end of the last compiled
+        # index-3 step (its kernel computes them); None after a restart (new inputs or PTO commands)
+        self.end_powers: tuple | None = None
         self.python_path = False  # True: never use the compiled path (comparisons, benchmarks)
 
     def __getstate__(self) -> dict:
@@ -150,25 +157,37 @@ class Formulation:
 
     @property
     def compiled(self) -> CompiledModel | None:
-        """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path; looked at again
-        when elements or drivers are added to the model (e.g. an FMU's input-force element after the start) or
-        when that element is switched on (a host sets the linearised force interface)."""
+        """The model's compiled view (:mod:`mbd_fmu.fast`), None when it runs on the Python path. Derived once and
+        kept: :meth:`check_model` looks at the model again where a step or a restart begins."""
         if self.python_path:
             return None
-        m = self.model
-        last = m.elements[-1] if m.elements else None  # an FMU appends its input-force element last
-        signature = (len(m.elements), type(last).__name__, getattr(last, "active", None), len(m.drivers))
-        changed = signature != getattr(self, "_signature", None)
-        if self._compiled is False or changed:
+        if self._compiled is False:
             # after a restore the plan is rebuilt from the same model: the saved factors stay valid (a restored
-            # run repeats the original bit for bit); a changed model drops them
-            self._compiled = compiled_model(m)
-            self._signature = signature
-            if changed:
-                self._lu_key = None
+            # run repeats the original bit for bit)
+            if not hasattr(self, "_signature"):
+                self._signature = self._model_signature()
+            self._compiled = compiled_model(self.model)
         return self._compiled
 
+    def _model_signature(self) -> tuple:
+        m = self.model
+        last = m.elements[-1] if m.elements else None  # an FMU appends its input-force element last
+        return len(m.elements), type(last).__name__, getattr(last, "active", None), len(m.drivers)
+
+    def check_model(self) -> None:
+        """Drop the compiled view (and the factors derived from it) if elements or drivers were added to the model
+        (e.g. an FMU's input-force element after the start) or that element was switched on (a host sets the
+        linearised force interface). Called by :meth:`initialize`, :meth:`set_inputs`, :meth:`on_restart` and
+        each formulation's ``step``: a model changed between steps is looked at before the next one."""
+        signature = self._model_signature()
+        if signature != getattr(self, "_signature", None):
+            self._signature = signature
+            self._compiled = False
+            self._lu_key = None
+
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
+        self.check_model()
+        self.end_powers = None
         self.pose, self.v, self.t = pose.copy(), np.array(v, float), float(t)
         if inputs is not None:
             self.inputs = np.array(inputs, float)
@@ -178,6 +197,7 @@ class Formulation:
 
     def set_inputs(self, inputs: np.ndarray) -> bool:
         """Hold ``inputs`` from now on; returns True if they changed (a restart was made)."""
+        self.check_model()
         inputs = np.asarray(inputs, float)
         if np.array_equal(inputs, self.inputs):
             return False
@@ -186,6 +206,8 @@ class Formulation:
         return True
 
     def on_restart(self) -> None:
+        self.check_model()
+        self.end_powers = None
         self.vdot, self.lam = self.acceleration(self.pose, self.v, self.t)
 
     def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -277,6 +299,13 @@ class Index3(Formulation):
 
     def on_restart(self) -> None:
         if self.settings.restart == "none":
+            self.check_model()
+            self.end_powers = None
+            return
+        if self.settings.restart == "increment" and self.a is not None:
+            before = self.vdot
+            super().on_restart()
+            self.a = self.a + (self.vdot - before)  # the acceleration's jump, carried by the algorithmic one
             return
         super().on_restart()
         self.a = None
@@ -287,8 +316,8 @@ class Index3(Formulation):
             return self.vdot.copy()
         cm = self.compiled
         if cm is not None:
-            a, stiff = kernels.start_acceleration(*cm.plan(), self.pose.r, self.pose.R, self.v, self.vdot, self.inputs,
-                                                  cm.refs, h, delta)
+            a, stiff = kernels.start_acceleration(*cm.plan(refresh=False), self.pose.r, self.pose.R, self.v, self.vdot,
+                                                  self.inputs, cm.refs, h, delta)
             self.stiff_restarts += int(stiff)
             return a
         eps = 1e-5 * h
@@ -305,6 +334,7 @@ class Index3(Formulation):
         return self.vdot + correction
 
     def step(self, h: float) -> None:
+        self.check_model()
         if self.compiled is not None and self._compiled_step(h):
             return
         self.reselect_rows()
@@ -407,9 +437,9 @@ class Index3(Formulation):
         False if it did not converge (the Python path then takes the step, with its own retries and errors)."""
         self.reselect_rows()
         cm, m = self.compiled, self.model
+        ip, fp = cm.plan()  # PTO commands and angle references read from the elements once per step
         if self.a is None:
             self.a = self._start_acceleration(h)
-        ip, fp = cm.plan()
         kept = m.kept
         n, r, nb = m.n, len(kept), m.N
         nn = n + r
@@ -438,7 +468,10 @@ class Index3(Formulation):
         self._quality = (self.steps + 1, quality)
         self.t += h
         self.steps += 1
-        cm.commit(out[k + 2 * n:])
+        s = k + 2 * n + len(cm.refs)
+        cm.commit(out[k + 2 * n:s])
+        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
+        self.end_powers = (self.steps, float(out[s]), float(out[s + 1]), out[s + 2:])
         return True
 
 
@@ -446,6 +479,7 @@ class Index1(Formulation):
     """Index-1 DAE by explicit RKMK with projection onto the constraint manifold (module docstring)."""
 
     def step(self, h: float) -> None:
+        self.check_model()
         kept = self.model.kept
         self.reselect_rows()
         m = self.model
@@ -559,6 +593,7 @@ class NullSpace(Formulation):
         return v, p @ vsd + rho, vsd
 
     def step(self, h: float) -> None:
+        self.check_model()
         kept = self.model.kept
         self.reselect_rows()
         if self.model.kept is not kept:

@@ -838,8 +838,9 @@ def ga_full_step(ip, fp, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, n
     the kept rows' quality at the new pose: the whole step in one call. ``lu``, ``piv``: the kept factors
     (``have_lu``), overwritten when the matrix is refreshed.
 
-    Returns (status, iterations, keep, quality, out) with ``out`` = [v', lambda, r, R, v, a, angle references]
-    flattened (one array: fewer objects to hand back to Python)."""
+    Returns (status, iterations, keep, quality, out) with ``out`` = [v', lambda, r, R, v, a, angle references,
+    dissipated and supplied power, each spring's dissipated power (:func:`powers` at the new state)] flattened
+    (one array: fewer objects and calls between Python and machine code)."""
     plan = unpack(ip, fp)
     tol = newton_tolerance * max(length, np.abs(v_n).max() if v_n.shape[0] else 0.0)
     status, iterations, keep, vd, lam = ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef,
@@ -850,7 +851,8 @@ def ga_full_step(ip, fp, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, n
     rr, RR, W = snapshot(r1, R1, v1, plan[0])
     refs1 = angle_references(plan, rr, RR, W, refs)
     quality = _row_quality(plan, rr, RR, W) if plan[23] < plan[22] else 1.0
-    out = np.concatenate((vd, lam, r1.ravel(), R1.ravel(), v1, a1, refs1))
+    diss, supply, spring = _powers(plan, r1, R1, v1, inputs, refs1)
+    out = np.concatenate((vd, lam, r1.ravel(), R1.ravel(), v1, a1, refs1, np.array([diss, supply]), spring))
     return status, iterations, keep, quality, out
 
 
@@ -970,12 +972,17 @@ def committed(ip, fp, pr, pR, v, refs):
 
 @njit
 def powers(ip, fp, pr, pR, v, inputs, refs):
-    """(dissipated power, power supplied from outside) of the compiled elements and the input
-    (MultibodySimulator.powers; the compiled path has no drivers)."""
-    plan = unpack(ip, fp)
+    """(dissipated power, power supplied from outside, each spring's dissipated power (E,)) of the compiled
+    elements and the input (MultibodySimulator.powers; the compiled path has no drivers)."""
+    return _powers(unpack(ip, fp), pr, pR, v, inputs, refs)
+
+
+@njit
+def _powers(plan, pr, pR, v, inputs, refs):
     rr, RR, W = snapshot(pr, pR, v, plan[0])
     diss = 0.0
     supply = 0.0
+    spring = np.zeros(plan[19].shape[0])
     for q in range(plan[13].shape[0]):
         b = plan[13][q]
         kd = plan[14][q]
@@ -996,11 +1003,12 @@ def powers(ip, fp, pr, pR, v, inputs, refs):
         value, rate, _ = coordinate(plan, s, rr, RR, W, refs[s])
         x = value - par[3]
         if par[4] == 0.0 and par[5] == 0.0 and par[6] == 0.0:
-            diss += par[1] * rate * rate
+            spring[e] = par[1] * rate * rate
         else:
-            diss += -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+            spring[e] = -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+        diss += spring[e]
         supply += par[2] * rate
-    return diss, supply + _vdot(inputs, v)
+    return diss, supply + _vdot(inputs, v), spring
 
 
 # ---------------------------------------------------------------------------------------------- index-1 RKMK

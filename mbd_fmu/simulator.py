@@ -91,6 +91,8 @@ class MultibodySimulator:
                 p.set_command(k, c, u)
                 changed = True
         if changed:
+            self.formulation.end_powers = None
+            self._outputs = None  # the PTO forces of the kept outputs were those of the old commands
             self.formulation.on_restart()
 
     # ------------------------------------------------------------------ outputs
@@ -110,11 +112,11 @@ class MultibodySimulator:
         cm = f.compiled
         if cm is None:
             return None
-        plan = cm.plan()  # PTO commands of now
-        key = (f.steps, f.t, id(f.pose), id(f.lam), cm.spring_par.tobytes())
+        key = (f.steps, f.t, id(f.pose), id(f.lam))  # set_pto_commands drops the kept outputs
         cached = getattr(self, "_outputs", None)
         if cached is not None and cached[0] == key:
             return cached[1]
+        plan = cm.plan()  # PTO commands of now
         flat = kernels.outputs(*plan, f.pose.r, f.pose.R, f.v, f.lam, cm.refs)
         nb, nj, nc = self.model.N, len(self.model.joints), len(cm.coordinates)
         o = 6 * nb + 3
@@ -147,9 +149,13 @@ class MultibodySimulator:
         m, f = self.model, self.formulation
         cm = f.compiled
         if cm is not None:
-            diss, supply = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
-            k = self.kin if self.ptos else None  # the PTOs' share in Python: a few coordinates per substep
-            return diss, supply, sum(p.powers(k)[0] for p in self.ptos)
+            end = getattr(f, "end_powers", None)  # (absent from states saved by earlier versions)
+            if end is not None and end[0] == f.steps:  # computed by the step that led here
+                diss, supply, springs = end[1:]
+            else:
+                diss, supply, springs = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs,
+                                                       cm.refs)
+            return diss, supply, sum(float(springs[cm.spring_position[id(m.elements[i])]]) for i in self._pto_index)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]
         diss = sum(p[0] for p in powers)
@@ -180,10 +186,14 @@ class MultibodySimulator:
 
     def joint_coordinates(self) -> list[tuple[np.ndarray, np.ndarray]]:
         compiled = self.compiled_outputs()
-        if compiled is not None:
-            index = {id(c): i for i, c in enumerate(self.formulation.compiled.coordinates)}
+        if compiled is not None and self.formulation.compiled.joint_coordinates is not None:
             values = compiled["coordinates"]
-        k = self.kin
+            return [(values[p, 0], values[p, 1]) for p in self.formulation.compiled.joint_coordinates]
+        if compiled is not None:
+            index = self.formulation.compiled.coordinate_position
+            values = compiled["coordinates"]
+        k = None if compiled is not None and all(id(c) in index for cj in self.model.joints
+                                                 for c in cj.coordinates) else self.kin
         out = []
         for cj in self.model.joints:
             if compiled is not None:
@@ -218,14 +228,13 @@ class MultibodySimulator:
         compiled = self.compiled_outputs()
         if compiled is not None:
             cm = self.formulation.compiled
-            springs = {id(e): i for i, e in enumerate(cm.springs)}
-            coords = {id(c): i for i, c in enumerate(cm.coordinates)}
-            rows = []
-            for p in self.ptos:
-                q, v = compiled["coordinates"][coords[id(p.coordinate)]]
-                force = float(compiled["spring_forces"][springs[id(p)]])
-                rows.append((q - p.neutral, v, force, -force * v))
-            return np.array(rows).reshape(len(self.ptos), 4)
+            coords, forces = compiled["coordinates"], compiled["spring_forces"]
+            out = np.empty((len(self.ptos), 4))
+            for row, p in zip(out, self.ptos, strict=True):
+                q, v = coords[cm.coordinate_position[id(p.coordinate)]].tolist()
+                force = forces.item(cm.spring_position[id(p)])
+                row[:] = (q - p.neutral, v, force, -force * v)
+            return out
         k = self.kin
         rows = []
         for p in self.ptos:

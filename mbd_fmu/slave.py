@@ -277,33 +277,45 @@ class MultibodySlave(VectorSlave):
             getattr(self, f"_update_{group}")()
             self._fresh.add(group)
         slot = self._slot
-        return [float(slot[vr][0][slot[vr][1]]) for vr in vrs]
+        return [slot[vr][0].item(slot[vr][1]) for vr in vrs]
 
     def _update_motion(self) -> None:
         sim = self.system
-        slots = self._input_slots
         compiled = sim.compiled_outputs()
         disp = compiled["displacement"] if compiled is not None else sim.model.displacement(sim.formulation.pose)
-        self.array("x")[:] = sim.displacement(disp)[slots]
-        self.array("v")[:] = sim.velocity()[slots]
-        for i, b in enumerate(self.spec["bodies"]):
-            self.array(f"{b['name']}.pose")[:] = np.concatenate([sim.formulation.pose.r[i], disp[i, 3:]])
+        if not hasattr(self, "_motion_index"):  # (body, dof) of each input slot; each body's pose array
+            model = sim.model
+            coords = [model.coordinates[k] for k in self._input_slots]
+            self._motion_index = (np.array([model.index(b) for b, _ in coords], dtype=int),
+                                  np.array([d for _, d in coords], dtype=int),
+                                  [self.array(f"{b['name']}.pose") for b in self.spec["bodies"]])
+        bodies, dofs, poses = self._motion_index
+        self.array("x")[:] = disp[bodies, dofs]
+        self.array("v")[:] = sim.formulation.v[self._input_slots]
+        r = sim.formulation.pose.r
+        for i, pose in enumerate(poses):
+            pose[:3] = r[i]
+            pose[3:] = disp[i, 3:]
 
     def _update_pto(self) -> None:
         if self.system.ptos:
             out = self.system.pto_outputs()
-            for k, key in enumerate(("position", "velocity", "force", "power")):
-                self.array(f"pto.{key}")[:] = out[:, k]
+            for k, key in enumerate(("pto.position", "pto.velocity", "pto.force", "pto.power")):
+                self._arrays[key][:] = out[:, k]
 
     def _update_joints(self) -> None:
         sim = self.system
-        for j, (q, qd), (force, moment) in zip(self.spec.get("joints", []), sim.joint_coordinates(), sim.reactions(),
-                                               strict=True):
+        if not hasattr(self, "_joint_arrays"):
+            self._joint_arrays = [tuple(self._arrays.get(f"{j['name']}.{key}")
+                                        for key in ("coordinate", "rate", "force", "moment"))
+                                  for j in self.spec.get("joints", [])]
+        for (coordinate, rate, force, moment), (q, qd), (f, m) in zip(self._joint_arrays, sim.joint_coordinates(),
+                                                                      sim.reactions(), strict=True):
             if len(q):
-                self.array(f"{j['name']}.coordinate")[:] = q
-                self.array(f"{j['name']}.rate")[:] = qd
-            self.array(f"{j['name']}.force")[:] = force
-            self.array(f"{j['name']}.moment")[:] = moment
+                coordinate[:] = q
+                rate[:] = qd
+            force[:] = f
+            moment[:] = m
 
     def _update_forces(self) -> None:
         sim = self.system
@@ -365,7 +377,11 @@ class MultibodySlave(VectorSlave):
         restart = False
         if self._coupling:
             element = next(e for e in sim.model.elements if isinstance(e, LinearisedInputForce))  # (state copies)
-            restart = element.set(sim.time, self.array("F0"), self.array("F0_rate"), *self._tangents())
+            values = [self._arrays[key] for key in ("F0", "F0_rate", "dF_dx", "dF_dv")]
+            if element.active or any(a.any() for a in values):
+                restart = element.set(sim.time, values[0], values[1], *self._tangents())
+            else:  # inputs left at zero (a master that uses the force F only): what set() would do, for less
+                element.t0 = float(sim.time)
         try:
             sim.advance(step_size, inputs, restart=restart)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:

@@ -282,7 +282,7 @@ class Master:
         values = self.components[name].get_reals(self.output_ports[name])
         limit = self._limits(name, values)
         # One comparison catches NaN (comparison false), infinities and values beyond the limit.
-        if values.size and not np.all(np.abs(values) <= limit):
+        if values.size and not (np.abs(values) <= limit).all():
             bad = ~(np.abs(values) <= limit)
             k = int(np.argmax(bad))
             var = self.output_names[name][k]

@@ -389,6 +389,12 @@ class MultibodySection:
                              doc="largest integrator step; 0 = one step per macro step")
     newton_tolerance: float = option(1e-10, check=positive, doc="Newton tolerance on positions (relative to "
                                                                  "max(1 m, largest cg coordinate))")
+    restart: str = option(
+        "consistent", choices=("consistent", "increment"),
+        doc="generalised-alpha restart when the held inputs change at a macro step: `consistent` resets the "
+            "algorithmic acceleration from the consistent acceleration and its derivative (three solves), "
+            "`increment` adds the jump of the consistent acceleration (one solve); both second order "
+            "(docs/multibody.md)")
     gravity: bool = option(True, doc="apply gravity at the centres of gravity and the bodies' buoyancy "
                                      "(nonlinear formulations)")
     static_equilibrium: bool = option(

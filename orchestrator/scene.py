@@ -443,7 +443,7 @@ class Scene:
         mb = s.multibody
         spec["multibody"] = {"formulation": s.formulation, "integrator": mb.integrator,
                              "spectral_radius": mb.spectral_radius, "max_step": mb.max_step,
-                             "newton_tolerance": mb.newton_tolerance}
+                             "newton_tolerance": mb.newton_tolerance, "restart": mb.restart}
         spec["gravity"] = [0.0, 0.0, -s.environment.g] if mb.gravity else [0.0, 0.0, 0.0]
         for b, out in zip(s.bodies, spec["bodies"], strict=True):
             out["point_mass"] = b.point_mass
