@@ -333,8 +333,8 @@ class KramersKronigTail:
             power law plus the piecewise-linear interpolant of (Omega, 0), (nodes, values), 0 beyond.
         spread: the residual A(omega) misfit, as :func:`ogilvie_added_mass_inf`'s spread.
         spread_without: the same with the power law alone and Ogilvie's A_inf (for the record).
-        negative: the most negative eigenvalue of the continued B at the nodes, relative to the largest
-            eigenvalue there (0 if the continuation is positive semi-definite).
+        negative: the most negative (scaled) eigenvalue of the least-squares continuation at the nodes,
+            relative to the largest, that was set to 0 (0: none).
     """
 
     added_mass_inf: np.ndarray
@@ -374,10 +374,20 @@ def kramers_kronig_tail(omega: np.ndarray, added_mass: np.ndarray, damping: np.n
     G_j(w) = -(1/w) int_0^T K_j sin(w t) dt the added mass hat j adds to the time-domain model, and g_j the
     weighted norm of G_j (a ridge term: the functions 1 / (nu^2 - w^2) of the far hats are nearly
     collinear inside the band, so the fit is ill posed without it; ``smoothing`` is relative to their
-    size). Linear least squares, entry by entry (so the result does not depend on which degrees of
-    freedom are selected), then symmetrised. The continuation is a model fitted to A inside the band: it
-    reproduces the database's A(omega) and B(omega) there (to the residual ``spread``), not the true B above
-    Omega. Its positive definiteness is not imposed; ``negative`` reports it.
+    size). Linear least squares, entry by entry, then symmetrised. The continued B (power law plus hats) at
+    each node is then made positive semi-definite (negative eigenvalues of the matrix scaled by
+    sqrt(max |B_ii|) set to 0; ``negative`` reports the largest removed), so the radiation force stays
+    passive, and A_inf is refitted as the weighted mean of what the tail leaves: the result therefore
+    depends on which degrees of freedom are passed together (pass the scene's). No iteration; cost a few
+    impulse responses of a scalar table.
+
+    Error: B inside the band is the table's (this only adds above Omega); A inside the band matches the
+    database to the residual ``spread``, which is what a smooth function of omega (the hats' shares are
+    smooth below Omega) cannot follow: BEM noise, asymmetry, and A's response to features of B between the
+    database's frequencies that the interpolated table misses. On a closed-form pair with a resonance above
+    the table, A's error falls 40-fold against Ogilvie's (tests/test_radiation.py). The continuation is a
+    model fitted to A inside the band, not the true B above Omega, and A_inf alone is not identified (the far
+    tail's share, (2/pi) int B / nu^2, is a constant too): only the pair reproduces A(omega).
     """
     omega = np.asarray(omega, dtype=float)
     top = omega[-1]
