@@ -163,8 +163,13 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
         assert abs(period_error) < 0.01, (period_error, damping_error)
     t = data["time"]
     fore, aft = data["bodies/flap1/displacement"][:, 4], data["bodies/flap2/displacement"][:, 4]
-    early = t <= 4.0
-    assert np.all(aft[early][1:] < 0)  # against the fore flap's initial +10 deg
+    # Against the fore flap's initial +10 deg on the modal time scale (theta_2 ~ -(w_s^2 - w_m^2) theta_0 t^2 / 4,
+    # docs/f3of.md). The first second is set by the flaps' infinite-frequency cross-coupling, which the database
+    # does not pin down (A_inf between the flap pitches: BEM -957, Ogilvie's fit -4.7e5, the Kramers-Kronig fit
+    # +1.9e5 kg m^2, both fits absorbing shares of the damping above 1.5 rad/s; with the last the aft flap first
+    # moves +0.03 deg for 1.2 s), so it is not asserted.
+    early = (t >= 1.5) & (t <= 4.0)
+    assert np.all(aft[early] < 0)
     beat = (t > 150) & (t < 250)
     assert np.abs(aft[beat]).max() > 0.5 * math.radians(10)
     assert np.abs(fore[beat]).max() < 0.5 * np.abs(aft[beat]).max() + 0.02
