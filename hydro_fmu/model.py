@@ -59,6 +59,8 @@ class HydroOptions:
         irf_d_omega: frequency step (rad/s) of the impulse-response transform; 0 = the database's.
         damping_tail: exponent n of B's continuation above the database (0 = cut there), see
             :func:`hydro_fmu.radiation.damping_tail`.
+        tail_correction: (nodes (k,), values (k, 6 N, 6 N) on all DOFs of the model's bodies) added to that
+            continuation (:func:`hydro_fmu.radiation.kramers_kronig_tail`); None: none.
         state_space_tolerance, state_space_max_order: order selection of the state-space fit.
         excitation_method: ``superposition`` or ``convolution`` (non-causal impulse response).
         excitation_irf_duration: half-length of the excitation kernel (s).
@@ -70,6 +72,7 @@ class HydroOptions:
     radiation_method: str = "convolution"
     irf_d_omega: float = 0.0
     damping_tail: float = 0.0
+    tail_correction: tuple[np.ndarray, np.ndarray] | None = None
     state_space_tolerance: float = DEFAULT_TOLERANCE
     state_space_max_order: int = DEFAULT_MAX_ORDER
     excitation_method: str = "superposition"
@@ -215,12 +218,16 @@ class HydroModel:
         omega, damping = self.hdb.omega, self.hdb.radiation_damping[:, self.index][:, :, self.index]
         if o.irf_d_omega > 0:
             omega, damping = resample_damping(omega, damping, o.irf_d_omega)
-        table = damping_tail(omega, damping, o.damping_tail)
+        correction = None
+        if o.tail_correction is not None:
+            nodes, values = o.tail_correction
+            correction = (np.asarray(nodes, dtype=float), np.asarray(values)[:, self.index][:, :, self.index])
+        table = damping_tail(omega, damping, o.damping_tail, correction=correction)
         n_kernel = max(2, int(math.ceil(self.irf_duration / self.dt)) + 1)
         self.kernel_time = np.arange(n_kernel) * self.dt
         self.kernel = impulse_response(*table, self.kernel_time)
         self.report.warnings = irf_diagnostics(omega, damping, self.kernel_time, self.kernel, self.labels,
-                                               continued=o.damping_tail > 0)
+                                               continued=o.damping_tail > 0 or correction is not None)
         self.report.kernel_samples = n_kernel
         added_mass = self.hdb.added_mass[:, self.index][:, :, self.index]
         if o.radiation_method == "convolution":

@@ -235,6 +235,8 @@ class HydroSlave(VectorSlave):
         options = HydroOptions(
             radiation_method=r.get("method", "convolution"), irf_d_omega=r.get("irf_d_omega", 0.0),
             damping_tail=r.get("damping_tail", 0.0),
+            tail_correction=(None if not r.get("tail_correction") else
+                             (np.array(r["tail_correction"]["nodes"]), np.array(r["tail_correction"]["values"]))),
             state_space_tolerance=p.get("radiation.state_space_tolerance",
                                         r.get("state_space_tolerance", DEFAULT_TOLERANCE)),
             state_space_max_order=r.get("state_space_max_order", 60),

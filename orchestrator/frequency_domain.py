@@ -97,13 +97,16 @@ def radiation_coefficients_from_irf(
 
 def scene_kernel(scene: Scene, dt: float, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """Times (s) and the radiation impulse response K (nt, m, m) on the hydro coordinates, sampled as
-    the time-domain model samples it (``hydro.irf_d_omega``, ``hydro.damping_tail``)."""
+    the time-domain model samples it (``hydro.irf_d_omega``, ``hydro.damping_tail``, the fitted tail correction)."""
     idx = scene.hydro_index()
     hdb = scene.hdb
     t = np.arange(max(2, int(np.ceil(duration / dt)) + 1)) * dt
     h = scene.scenario.hydro
+    correction = scene.tail_correction()
+    if correction is not None:
+        correction = (correction[0], correction[1][:, idx][:, :, idx])
     table = kernel_table(hdb.omega, hdb.radiation_damping[:, idx][:, :, idx], d_omega=h.irf_d_omega,
-                         tail_exponent=h.damping_tail)
+                         tail_exponent=h.damping_tail, tail_correction=correction)
     return t, impulse_response(*table, t)
 
 

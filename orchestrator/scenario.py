@@ -253,10 +253,13 @@ class HydroSection:
         False, doc="Froude-Krylov force over the instantaneous wetted hull under the incident wave (the "
                    "database's diffraction part stays linear)")
     added_mass_inf: str = option(
-        "bem", choices=("bem", "ogilvie"),
+        "bem", choices=("bem", "ogilvie", "kramers_kronig"),
         doc="infinite-frequency added mass: `bem` as the database gives it, or `ogilvie`: the least-squares value "
             "consistent with the database's A(omega) and the impulse response of its B(omega) (Ogilvie's relation), "
-            "so that the time-domain radiation model reproduces A(omega); see docs/hydrodynamics.md")
+            "so that the time-domain radiation model reproduces A(omega); or `kramers_kronig`: A_inf and a "
+            "correction of B's continuation above the database's last frequency fitted together to A(omega), for "
+            "databases whose A inside the band feels damping above it (resonances just above the last frequency); "
+            "see docs/hydrodynamics.md")
     check_tolerance: float = option(
         0.05, check=positive,
         doc="database checks: largest relative asymmetry of A and B, and negative eigenvalue of the scaled B")

@@ -97,7 +97,49 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
     _check_coefficients(scenario, sub)
     if scenario.hydro.added_mass_inf == "ogilvie":
         sub = _ogilvie(scenario, sub, log)
+    elif scenario.hydro.added_mass_inf == "kramers_kronig":
+        sub = _kramers_kronig(scenario, sub, log)
     return sub, path
+
+
+TAIL_CORRECTION = "damping_tail_correction"  # HydroDatabase.extra key: (nodes, values) of the fitted tail
+
+
+def _kramers_kronig(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
+    """The database with A_inf and a correction of B's continuation fitted to its A(omega)
+    (:func:`hydro_fmu.radiation.kramers_kronig_tail`) on the degrees of freedom the scene uses (the continued B
+    is made positive semi-definite on them together); the correction, zero on the other DOFs, is kept in
+    ``extra``."""
+    import dataclasses
+
+    from hydro_fmu.radiation import kramers_kronig_tail
+
+    h = scenario.hydro
+    index = np.array(_scene_dofs(scenario))
+    block = np.ix_(index, index)
+    fit = kramers_kronig_tail(hdb.omega, hdb.added_mass[:, index][:, :, index],
+                              hdb.radiation_damping[:, index][:, :, index], h.irf_duration,
+                              d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
+    change = float(np.max(np.abs(fit.added_mass_inf - hdb.added_mass_inf[block])) /
+                   np.max(np.abs(hdb.added_mass_inf[block])))
+    if log is not None:
+        log(f"A_inf and B above {hdb.omega[-1]:g} rad/s fitted to A(omega) (Kramers-Kronig): A_inf changes by "
+            f"{100 * change:.2g} % of the largest entry; misfit of A over the frequency grid {100 * fit.spread:.2g} % "
+            f"({100 * fit.spread_without:.2g} % with A_inf alone)"
+            + (f"; negative eigenvalues of the fitted B, down to {100 * fit.negative:.2g} % of its largest, set to 0"
+               if fit.negative > 1e-3 else ""))
+    a_inf = hdb.added_mass_inf.copy()
+    a_inf[block] = fit.added_mass_inf
+    values = np.zeros((len(fit.nodes),) + hdb.added_mass_inf.shape)
+    values[(slice(None),) + block] = fit.values
+    extra = {**hdb.extra, TAIL_CORRECTION: (fit.nodes, values)}
+    return dataclasses.replace(hdb, added_mass_inf=a_inf, extra=extra,
+                               source=f"{hdb.source} (A_inf and B tail: Kramers-Kronig fit)")
+
+
+def _scene_dofs(scenario: Scenario) -> list[int]:
+    """Indices of the scene's hydrodynamic degrees of freedom in the database (6 per body, scenario order)."""
+    return [6 * i + DOFS.index(d) for i, b in enumerate(scenario.hydro_bodies) for d in _sorted_dofs(b)]
 
 
 def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
@@ -118,8 +160,7 @@ def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
 
 def _check_coefficients(scenario: Scenario, hdb: HydroDatabase) -> None:
     """Symmetry and positive damping on the degrees of freedom the scene uses (HydroDatabaseError)."""
-    index = [6 * i + DOFS.index(d) for i, b in enumerate(scenario.hydro_bodies) for d in _sorted_dofs(b)]
-    problems = hdb.check_physics(np.array(index), scenario.hydro.check_tolerance)
+    problems = hdb.check_physics(np.array(_scene_dofs(scenario)), scenario.hydro.check_tolerance)
     if problems:
         raise HydroDatabaseError(
             "; ".join(problems) + f" (tolerance hydro.check_tolerance = {scenario.hydro.check_tolerance:g} "
@@ -254,10 +295,16 @@ class Scene:
         bodies, _ = bem_inputs(self.scenario)
         return {b.name: body_mesh(b.geometry).translated(-np.asarray(b.cg)) for b in bodies}
 
+    def tail_correction(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(nodes, values (k, n, n) on the database's 6 N DOFs) of B's fitted continuation, if the scenario asks
+        for one (``hydro.added_mass_inf = "kramers_kronig"``)."""
+        return self.hdb.extra.get(TAIL_CORRECTION)
+
     def hydro_options(self) -> HydroOptions:
         h = self.scenario.hydro
         return HydroOptions(
             radiation_method=h.radiation_method, irf_d_omega=h.irf_d_omega, damping_tail=h.damping_tail,
+            tail_correction=self.tail_correction(),
             state_space_tolerance=h.state_space_tolerance, state_space_max_order=h.state_space_max_order,
             excitation_method=h.excitation_method, excitation_irf_duration=h.excitation_irf_duration,
             nonlinear_hydrostatics=h.nonlinear_hydrostatics, nonlinear_froude_krylov=h.nonlinear_froude_krylov,
@@ -338,6 +385,7 @@ class Scene:
             "waves": self.sea_spec({k: v for k, v in renamed.items() if v}).to_json(),
             "radiation": {"dt": s.simulation.step, "irf_duration": h.irf_duration, "method": h.radiation_method,
                           "irf_d_omega": h.irf_d_omega, "damping_tail": h.damping_tail,
+                          "tail_correction": _correction_json(self.tail_correction()),
                           "state_space_tolerance": h.state_space_tolerance,
                           "state_space_max_order": h.state_space_max_order},
             "excitation": {"method": h.excitation_method, "irf_duration": h.excitation_irf_duration},
@@ -541,6 +589,13 @@ class Scene:
 
 def _sorted_dofs(b: BodySection) -> list[str]:
     return sorted(b.dofs, key=DOFS.index)
+
+
+def _correction_json(correction: tuple[np.ndarray, np.ndarray] | None) -> dict | None:
+    if correction is None:
+        return None
+    nodes, values = correction
+    return {"nodes": np.asarray(nodes).tolist(), "values": np.asarray(values).tolist()}
 
 
 def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:

@@ -76,6 +76,24 @@ def test_database_passes_the_checks_and_carries_the_closed_bodies_hydrostatics()
         assert lin.equilibrium_residual < 1e-6 * weight, name
 
 
+def test_radiation_kernel_reproduces_the_database() -> None:
+    """The time-domain model's radiation (A_inf and B's continuation above 1.5 rad/s fitted to A(omega),
+    ``added_mass_inf = "kramers_kronig"``) rebuilds every scene's A(omega) and B(omega) at the database's 50
+    frequencies within 1 % on the check's scales (measured 0.006-0.009; 0.11-0.20 with Ogilvie's A_inf and the
+    power law alone, docs/f3of.md). The fitted continuation reaches the hydro FMU through its spec unchanged."""
+    import json
+
+    for name in NAMES:
+        scene = load_scene(scenario(name), log=None)
+        assert scene.scenario.hydro.added_mass_inf == "kramers_kronig"
+        model = scene.hydro_model()
+        assert model.report.frequency_error < 0.01, (name, model.report.frequency_error)
+        nodes, values = scene.tail_correction()
+        sent = json.loads(json.dumps(scene.hydro_spec("database.h5")))["radiation"]["tail_correction"]
+        np.testing.assert_array_equal(np.array(sent["nodes"]), nodes)
+        np.testing.assert_array_equal(np.array(sent["values"]), values)
+
+
 # ---------------------------------------------------------------------------------------- decays
 DT3_WINDOW = (20.0, 400.0)  # s: from after the first cycle to the end (26 cycles of about 14 s)
 
@@ -145,8 +163,13 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
         assert abs(period_error) < 0.01, (period_error, damping_error)
     t = data["time"]
     fore, aft = data["bodies/flap1/displacement"][:, 4], data["bodies/flap2/displacement"][:, 4]
-    early = t <= 4.0
-    assert np.all(aft[early][1:] < 0)  # against the fore flap's initial +10 deg
+    # Against the fore flap's initial +10 deg on the modal time scale (theta_2 ~ -(w_s^2 - w_m^2) theta_0 t^2 / 4,
+    # docs/f3of.md). The first second is set by the flaps' infinite-frequency cross-coupling, which the database
+    # does not pin down (A_inf between the flap pitches: BEM -957, Ogilvie's fit -4.7e5, the Kramers-Kronig fit
+    # +1.9e5 kg m^2, both fits absorbing shares of the damping above 1.5 rad/s; with the last the aft flap first
+    # moves +0.03 deg for 1.2 s), so it is not asserted.
+    early = (t >= 1.5) & (t <= 4.0)
+    assert np.all(aft[early] < 0)
     beat = (t > 150) & (t < 250)
     assert np.abs(aft[beat]).max() > 0.5 * math.radians(10)
     assert np.abs(fore[beat]).max() < 0.5 * np.abs(aft[beat]).max() + 0.02
@@ -213,6 +236,13 @@ RAO_COORDINATES = [("base", 0), ("base", 2), ("base", 4), ("flap1", 0), ("flap1"
                    ("flap2", 0), ("flap2", 2), ("flap2", 4)]
 
 
+# Macro step of the RAO runs where the bundled 0.1 s is not enough. At 9 s the waves drive the base's heave
+# resonance (0.70 rad/s, damping ratio 0.005, amplification about 100): the step's second-order period error
+# shifts the resonance, and the fore flap's surge, a near-cancellation of the 20.8 m/m heave, moves by 21 %
+# at 0.1 s, 5.2 % at 0.05 s, 1.4 % at 0.025 s and 0.5 % at 0.0125 s (T/720; docs/f3of.md).
+RAO_STEPS = {9.0: 0.0125}
+
+
 def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     """(amplitude error, phase error deg) per coordinate of the time-domain steady state at ``period``
     against the exact linear answer with the database's A and B (the acceptance) and, for diagnosis,
@@ -222,12 +252,14 @@ def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     from orchestrator import frequency_domain
     from orchestrator.decay import fit_forced
 
-    s = scenario("f3of_rao", simulation__duration=300.0)
+    step = RAO_STEPS.get(period, 0.1)
+    s = scenario("f3of_rao", simulation__duration=300.0, simulation__step=step)
     s.waves.period = period
     data = run(s, tmp_path)
     omega = 2 * math.pi / period
-    x = np.column_stack([data[f"bodies/{b}/displacement"][:, j] for b, j in RAO_COORDINATES])
-    measured, _ = fit_forced(data["time"], x, omega, 1, (3 * period + 60.0, 300.0))
+    every = max(1, round(0.1 / step))  # the fit on samples 0.1 s apart (30 or more per period)
+    x = np.column_stack([data[f"bodies/{b}/displacement"][::every, j] for b, j in RAO_COORDINATES])
+    measured, free = fit_forced(data["time"][::every], x, omega, 1, (3 * period + 60.0, 300.0))
     scene = load_scene(s, log=None)
     out = []
     for radiation in ("database", "impulse_response"):
@@ -238,7 +270,9 @@ def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     database, kernel = out
     print(f"T = {period:g} s: largest amplitude error {100 * np.abs(database[:, 0]).max():.2f} %, "
           f"phase {np.abs(database[:, 1]).max():.2f} deg (against the kernel's own A, B: "
-          f"{100 * np.abs(kernel[:, 0]).max():.2f} %, {np.abs(kernel[:, 1]).max():.2f} deg)")
+          f"{100 * np.abs(kernel[:, 0]).max():.2f} %, {np.abs(kernel[:, 1]).max():.2f} deg); worst: "
+          f"{RAO_COORDINATES[int(np.argmax(np.abs(database[:, 0])))]}, free mode fitted "
+          f"{[(round(m.period, 2), round(m.damping_ratio, 4)) for m in free.modes]}")
     return database, kernel
 
 
