@@ -256,10 +256,14 @@ class VectorSlave(Fmi2Slave):
         """Recompute every output array from the current inputs and state."""
 
     # ------------------------------------------------------------------ bulk access
-    def get_real(self, vrs: list[int]) -> list[float]:
+    def refresh_outputs(self) -> None:
+        """Recompute the outputs if an input changed since they were last computed (and the model is ready)."""
         if self._outputs_stale and self._ready:
             self.update_outputs()
             self._outputs_stale = False
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        self.refresh_outputs()
         slot = self._slot
         return [slot[vr][0].item(slot[vr][1]) for vr in vrs]
 

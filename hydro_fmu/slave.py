@@ -299,9 +299,7 @@ class HydroSlave(VectorSlave):
         host reads them (a master using the plain force ``F`` does not pay for them). Its memory rate is the
         backward difference between the last two points where it was read (every point for a host that reads
         it at every step, as the interface expects)."""
-        if self._outputs_stale and self._ready:
-            self.update_outputs()
-            self._outputs_stale = False
+        self.refresh_outputs()
         if self.pattern is not None and self._ready and not self._affine_fresh and not self._affine_vrs.isdisjoint(vrs):
             self._update_affine()
         return super().get_real(vrs)

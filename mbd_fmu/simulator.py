@@ -192,8 +192,7 @@ class MultibodySimulator:
         if compiled is not None:
             index = self.formulation.compiled.coordinate_position
             values = compiled["coordinates"]
-        k = None if compiled is not None and all(id(c) in index for cj in self.model.joints
-                                                 for c in cj.coordinates) else self.kin
+        k = self.kin  # here some joint coordinate is not compiled (or nothing is): the Python side reads it
         out = []
         for cj in self.model.joints:
             if compiled is not None:
