@@ -7,12 +7,15 @@ generalised-alpha steps in machine code. It covers:
   gravity and static loads, gyroscopic moments;
 * every joint kind (the four constraint primitives: point, perp, plane, distance), closed loops and
   redundant constraints (the kept rows, re-chosen along the motion as on the Python path);
-* force elements :class:`~mbd_fmu.moorings.LinearMooring` and
+* force elements :class:`~mbd_fmu.moorings.LinearMooring`,
   :class:`~mbd_fmu.force_elements.CoordinateSpringDamper` (spring-dampers, rotary spring-dampers,
-  bushings on translations, PTOs with their nonlinear law) on a distance, a slide or a joint angle.
+  bushings, PTOs with their nonlinear law), :class:`~mbd_fmu.force_elements.Rope` (tension only) and
+  :class:`~mbd_fmu.force_elements.CoulombFriction` on a distance, a slide, a joint angle or a
+  rotation-vector component (relative rotations: bushings and PTOs on spherical joints, the arrays'
+  link arms).
 
-A model with anything else (prescribed motion, ropes, friction, catenary lines, spring-dampers on a
-rotation-vector component, any element defined elsewhere) runs on the Python path, unchanged; so
+A model with anything else (prescribed motion, catenary lines, any element defined elsewhere) runs
+on the Python path, unchanged; so
 does every model when numba is missing or ``WEC_COSIM_NO_JIT`` is set. :func:`compiled_model`
 returns None then. The plan is derived data: formulations rebuild it from the model (it is not part
 of a saved state).
@@ -26,12 +29,13 @@ import numpy as np
 
 from . import kernels
 from ._jit import AVAILABLE
-from .coordinates import Angle, Distance, Slide
-from .force_elements import CoordinateSpringDamper
+from .coordinates import Angle, Distance, RotationComponent, Slide
+from .force_elements import CoordinateSpringDamper, CoulombFriction, Rope
 from .model import MultibodyModel
 from .moorings import LinearMooring
 
-_COORDINATE_KIND = {Distance: 0, Slide: 1, Angle: 2}
+_COORDINATE_KIND = {Distance: 0, Slide: 1, Angle: 2, RotationComponent: 3}  # 3 + k: component k
+_LAW = {CoordinateSpringDamper: 0, Rope: 1, CoulombFriction: 2}  # spring_par[:, 8] (mbd_fmu.kernels._element_law)
 KINDS = {"point": 0, "perp": 1, "plane": 2, "distance": 3}
 
 
@@ -45,7 +49,7 @@ def unsupported(model: MultibodyModel) -> list[str]:
             continue
         if type(e).__name__ == "LinearisedInputForce" and not e.active:
             continue  # the host interface's input force before a host sets it: no force, no tangent
-        if type(e) is CoordinateSpringDamper and type(e.coordinate) in _COORDINATE_KIND:
+        if type(e) in _LAW and type(e.coordinate) in _COORDINATE_KIND:
             continue
         out.append(f"force element {e.name!r} ({type(e).__name__} on {type(getattr(e, 'coordinate', None)).__name__})")
     return out
@@ -95,7 +99,7 @@ class CompiledModel:
                      np.array([(e.stiffness, e.damping if e.damping is not None else np.zeros((6, 6)))
                                for e in moorings], dtype=float).reshape(-1, 2, 6, 6),
                      np.array([e.r0 for e in moorings], dtype=float).reshape(-1, 3)]
-        self.springs = [e for e in m.elements if isinstance(e, CoordinateSpringDamper)]
+        self.springs = [e for e in m.elements if type(e) in _LAW]
         self.spring_position = {id(e): i for i, e in enumerate(self.springs)}
         coords: list = []
         for e in self.springs:
@@ -116,12 +120,14 @@ class CompiledModel:
             if type(c) is Angle:
                 v[2:5] = c.axes_i.T
                 v[5] = c.x_j
+            elif type(c) is RotationComponent:
+                v[0:3], v[3:6] = c.axes_i, c.axes_j
             else:
                 v[0], v[1] = c.si, c.sj
                 if type(c) is Slide:
                     v[2] = c.n
                     v[3, 0] = c.offset
-            kind.append(_COORDINATE_KIND[type(c)])
+            kind.append(_COORDINATE_KIND[type(c)] + (c.k if type(c) is RotationComponent else 0))
             cbody.append((c.bi, c.bj))
             cvec.append(v)
         s = len(coords)
@@ -136,7 +142,7 @@ class CompiledModel:
             np.array([cj.m2.body for cj in m.joints], dtype=np.int64),
             np.array([cj.m2.offset for cj in m.joints], dtype=float).reshape(-1, 3), m.static.copy(),
             np.concatenate([m.mass, m.gravity, m.cg.ravel()])]
-        self.spring_par = np.zeros((len(self.springs), 8))
+        self.spring_par = np.zeros((len(self.springs), 9))
         self._plan = None
         self._kept = None
 
@@ -205,9 +211,14 @@ class CompiledModel:
             return
         par = self.spring_par
         for i, e in enumerate(self.springs):
-            law = e.law
-            par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
-                      law.force_limit, law.velocity_scale)
+            if type(e) is CoordinateSpringDamper:
+                law = e.law
+                par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
+                          law.force_limit, law.velocity_scale, 0.0)
+            elif type(e) is Rope:
+                par[i] = (e.stiffness, e.damping, 0.0, e.length, 0.0, 0.0, 0.0, 1.0, 1.0)
+            else:
+                par[i] = (0.0, 0.0, 0.0, 0.0, e.force, 0.0, 0.0, e.velocity, 2.0)
         for s, c in self.angles:
             self.refs[s] = c.reference
 
