@@ -1,7 +1,8 @@
 """The compiled path of the multibody model: which models it covers, and the plan its kernels run on.
 
 :mod:`mbd_fmu.kernels` evaluates the model (mass matrix, forces, constraints, tangents) and whole
-generalised-alpha steps in machine code. It covers:
+generalised-alpha and RKMK steps in machine code (the null-space formulation's steps in
+:mod:`mbd_fmu.nullspace_kernels`). It covers:
 
 * rigid bodies and point masses on any subset of degrees of freedom, infinite-frequency added mass,
   gravity and static loads, gyroscopic moments;
@@ -222,10 +223,64 @@ class CompiledModel:
         for s, c in self.angles:
             self.refs[s] = c.reference
 
+    def dependent_order(self, dep: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
+        """Order of the kept rows and of the dependent slots ``dep`` for a banded LU of C_d
+        (:mod:`mbd_fmu.nullspace_kernels`), and its lower and upper bandwidths: bodies in breadth-first order
+        along the rows that couple them, rows by their first and last body, slots by body. Dense (bandwidths
+        r - 1) when the band is not narrow."""
+        m = self.model
+        kept = m.kept
+        kpos = -np.ones(m.m, dtype=np.int64)
+        kpos[kept] = np.arange(len(kept))
+        pairs = np.zeros((len(kept), 2), dtype=np.int64)
+        for (bi, bj), rows in zip(self.prim[1], self.prim[4], strict=True):
+            for r in rows[rows >= 0]:
+                if kpos[r] >= 0:
+                    pairs[kpos[r]] = (bi, bj)
+        rank = _breadth_first(m.N + 1, pairs)
+        rank[m.N] = -1  # the ground first: its rows couple one body only
+        body_of = (m.sel // 6)[dep]
+        rows = np.lexsort((rank[pairs].max(axis=1), rank[pairs].min(axis=1))).astype(np.int64)
+        cols = np.lexsort((dep, rank[body_of])).astype(np.int64)
+        r = len(dep)
+        if r == 0:
+            return rows, cols, 0, 0
+        touches = (body_of[cols][None, :] == pairs[rows][:, :1]) | (body_of[cols][None, :] == pairs[rows][:, 1:])
+        i, j = np.nonzero(touches)
+        kl, ku = int(max(0, np.max(i - j))), int(max(0, np.max(j - i)))
+        if kl + ku > r // 2:
+            kl = ku = r - 1
+        return rows, cols, kl, ku
+
     def commit(self, refs: np.ndarray) -> None:
         """Angle references after an accepted step (what ``MultibodyModel.commit`` does on the Python path)."""
         for s, c in self.angles:
             c.reference = float(refs[s])
+
+
+def _breadth_first(count: int, pairs: np.ndarray) -> np.ndarray:
+    """Rank of each of ``count`` nodes in a breadth-first walk of the graph with edges ``pairs`` (each connected
+    component from its lowest node)."""
+    neighbours: list[list[int]] = [[] for _ in range(count)]
+    for a, b in pairs:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    rank = -np.ones(count, dtype=np.int64)
+    k = 0
+    for start in range(count):
+        if rank[start] >= 0:
+            continue
+        rank[start] = k
+        k += 1
+        queue = [start]
+        while queue:
+            node = queue.pop(0)
+            for other in neighbours[node]:
+                if rank[other] < 0:
+                    rank[other] = k
+                    k += 1
+                    queue.append(other)
+    return rank
 
 
 def _view(ip: np.ndarray, fp: np.ndarray, entry: int, shape: tuple) -> np.ndarray:

@@ -107,7 +107,7 @@ def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: b
     return sim
 
 
-@pytest.mark.parametrize("formulation", ["index3", "index1"])
+@pytest.mark.parametrize("formulation", ["index3", "index1", "nullspace"])
 @pytest.mark.parametrize("kind", KINDS)
 def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> None:
     fast = run(lambda: two_bodies(kind), formulation, True, 40, 0.01)
@@ -122,7 +122,7 @@ def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> Non
     assert fast.energy()["balance"] == pytest.approx(slow.energy()["balance"], abs=1e-6 * max(1.0, slow.work))
 
 
-@pytest.mark.parametrize("formulation", ["index3", "index1"])
+@pytest.mark.parametrize("formulation", ["index3", "index1", "nullspace"])
 def test_ropes_friction_and_rotation_components_take_the_same_steps_on_both_paths(formulation) -> None:
     """Ropes, Coulomb friction and spring-dampers/PTOs on rotation-vector components (the arrays' elements):
     same steps, energy terms and element outputs on both paths; the rope goes slack during the run, so both of
