@@ -142,10 +142,13 @@ def test_ropes_friction_and_rotation_components_take_the_same_steps_on_both_path
     for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
         assert ea[key] == pytest.approx(eb[key], abs=1e-6 * scale), key
     # the kernel's element outputs (rope tension, forces on the coordinates) against the Python elements'
-    compiled = fast.compiled_outputs()["spring_forces"]
+    compiled = np.concatenate(fast.element_outputs()[1:])
     k = slow.kin
     python = np.array([e.output(k)[0] for e in slow.model.elements[1:]])
     assert np.allclose(compiled, python, rtol=1e-6, atol=1e-6 * np.max(np.abs(python)))
+    assert np.array_equal(compiled, fast.compiled_outputs()["spring_forces"])  # (not the Python elements' values)
+    for x, y in zip(fast.element_outputs(), slow.element_outputs(), strict=True):  # the mooring's wrench too
+        assert x.shape == y.shape and np.allclose(x, y, rtol=1e-6, atol=1e-6 * max(1.0, np.max(np.abs(y))))
     assert min(tension) == 0.0 and max(tension) > 0.0  # the rope was taut and slack (both branches)
     for (q1, r1), (q2, r2) in zip(fast.joint_coordinates(), slow.joint_coordinates(), strict=True):
         assert np.allclose(q1, q2, atol=1e-8) and np.allclose(r1, r2, atol=1e-7)
@@ -207,6 +210,31 @@ def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path
     assert outputs[0] == outputs[1]
     assert any(e.endswith(".nbi") for e in entries[0])
     assert entries[1] == entries[0]
+
+
+def test_null_space_kernels_cache_follows_the_kernels_they_call(tmp_path, monkeypatch) -> None:
+    """nullspace_kernels.py compiles kernels.py's functions into its own cached machine code: its cache key changes
+    when kernels.py changes (else a stale cache would run old kernel code on a new plan layout); kernels.py's own
+    key does not depend on nullspace_kernels.py."""
+    from mbd_fmu import _jit
+
+    if not _jit.AVAILABLE:
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("WEC_COSIM_CACHE", str(tmp_path / "cache"))
+    stamps = []
+    for name, extra in (("a", ""), ("b", "\n# changed\n")):
+        folder = tmp_path / name / "mbd_fmu"
+        folder.mkdir(parents=True)
+        for f in ("kernels.py", "nullspace_kernels.py"):
+            shutil.copy(ROOT / "mbd_fmu" / f, folder / f)
+        with open(folder / "kernels.py", "a") as fh:
+            fh.write(extra)
+        stamps.append([_jit._ContentLocator(str(folder / f)).get_source_stamp()
+                       for f in ("kernels.py", "nullspace_kernels.py")])
+    assert stamps[0][0] != stamps[1][0] and stamps[0][1] != stamps[1][1]
+    with open(tmp_path / "b" / "mbd_fmu" / "nullspace_kernels.py", "a") as fh:
+        fh.write("\n# changed\n")
+    assert _jit._ContentLocator(str(tmp_path / "b" / "mbd_fmu" / "kernels.py")).get_source_stamp() == stamps[1][0]
 
 
 def test_host_input_force_keeps_the_compiled_path_until_a_host_switches_it_on() -> None:
