@@ -47,6 +47,7 @@ def child_run(scenario: str, duration: float | None, cache: Path, out: Path) -> 
         cmd += ["--duration", str(duration)]
     env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
     env.pop("WEC_COSIM_NO_JIT", None)
+    env.pop("WEC_COSIM_NUMBA_CACHE", None)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
@@ -84,6 +85,7 @@ for name, dt in tops:
 """
     env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
     env.pop("WEC_COSIM_NO_JIT", None)
+    env.pop("WEC_COSIM_NUMBA_CACHE", None)
     proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(proc.stderr[-2000:])

@@ -21,7 +21,10 @@ from pathlib import Path
 
 
 def cache_root() -> Path:
-    """Folder of the compiled kernels (beside the FMU cache)."""
+    """Folder of the compiled kernels: ``$WEC_COSIM_NUMBA_CACHE`` if set (the test suite shares one across its
+    processes while each session builds its FMUs into a private cache), else beside the FMU cache."""
+    if os.environ.get("WEC_COSIM_NUMBA_CACHE"):
+        return Path(os.environ["WEC_COSIM_NUMBA_CACHE"])
     base = os.environ.get("WEC_COSIM_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim")
     return Path(base) / "numba"

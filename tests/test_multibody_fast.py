@@ -197,6 +197,7 @@ def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path
               "print(k.exp_so3(0.1, 0.2, 0.3)[0, 0])")
     env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
     env.pop("WEC_COSIM_NO_JIT", None)
+    env.pop("WEC_COSIM_NUMBA_CACHE", None)
     outputs = []
     entries = []
     for name in ("first", "second"):
@@ -221,6 +222,7 @@ def test_null_space_kernels_cache_follows_the_kernels_they_call(tmp_path, monkey
     if not _jit.AVAILABLE:
         pytest.skip("numba not installed")
     monkeypatch.setenv("WEC_COSIM_CACHE", str(tmp_path / "cache"))
+    monkeypatch.delenv("WEC_COSIM_NUMBA_CACHE", raising=False)
     stamps = []
     for name, extra in (("a", ""), ("b", "\n# changed\n")):
         folder = tmp_path / name / "mbd_fmu"
