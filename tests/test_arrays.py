@@ -302,11 +302,14 @@ def test_arrays_constraints_do_not_drift_over_long_runs(name, duration) -> None:
 
 # ---------------------------------------------------------------------------------------------- irregular sea
 def irregular_check(name: str, path) -> dict:
-    """The default irregular run against the linear frequency-domain answer for the same discretised sea:
-    each component's exact mean power (the RAO's at its frequency times a_k^2) summed. Over the run's whole
-    length, which is the sea's repeat period, different components are orthogonal, so for the linear scene
-    the two agree up to the start-up (ramp and transients: the first 3 Tp + 15 s are left out, which breaks
-    that orthogonality at the level of a few per cent) and the ropes' slackness if any."""
+    """The default irregular run against the exact linear answer for the same discretised sea over the same
+    window. The frequency domain gives each PTO coordinate's steady response theta(t) = Re sum_k J_k A_k
+    exp(i omega_k t) (J the joint RAO, A_k the sea's complex amplitudes); the PTO's absorbed power is
+    (k theta + c theta') theta', averaged over the window the run is measured on (after the ramp and one
+    kernel length). The window is shorter than the sea's repeat period, so the components are not orthogonal
+    over it: the per-component sum (also returned, "fd_sum") differs from the window's mean by 10-40 % for
+    these seas, while the window's exact answer is what a linear run must reproduce, up to the start-up
+    transients and the truncated radiation kernel."""
     s = load_scenario(SCENARIOS / f"{name}.toml")
     sc = load_scene(s, log=None)
     waves = sc.waves()
@@ -314,10 +317,17 @@ def irregular_check(name: str, path) -> dict:
     data = read_results(path)
     t = data["time"]
     mask = t >= s.ramp_time + s.hydro.irf_duration
-    total_td = sum(window_mean(t, data[f"ptos/{p.name}/power"], mask) for p in s.ptos)
-    total_fd = sum(float(np.sum(fd.pto_power[p.name] * waves.amplitude**2)) for p in s.ptos)
+    phasors = np.exp(1j * np.multiply.outer(t, waves.omega)) * waves.complex_amplitude  # (T, K)
+    total_td = total_window = total_sum = 0.0
+    for p in s.ptos:
+        rao = fd.joint_rao[p.joint][:, p.joint_coordinate - 1]
+        angle, rate = (phasors @ rao).real, (phasors @ (1j * waves.omega * rao)).real
+        total_window += window_mean(t, (p.stiffness * angle + p.damping * rate) * rate, mask)
+        total_td += window_mean(t, data[f"ptos/{p.name}/power"], mask)
+        total_sum += float(np.sum(fd.pto_power[p.name] * waves.amplitude**2))
     account = energy_account_of(data)
-    return {"td": total_td, "fd": total_fd, "residual": account["residual"] / account["work_in"]}
+    return {"td": total_td, "fd": total_window, "fd_sum": total_sum,
+            "residual": account["residual"] / account["work_in"]}
 
 
 def energy_account_of(data: dict) -> dict:
@@ -329,8 +339,8 @@ def energy_account_of(data: dict) -> dict:
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ARRAYS)
 def test_irregular_sea_mean_power_and_energy_account(tmp_path, name) -> None:
-    """The scenario as bundled (300 s, FMU slaves in-process): total PTO power within 5 % of the linear
-    answer for the same components, the energy account closed to 1 %, the constraints held."""
+    """The scenario as bundled (300 s, FMU slaves in-process): total PTO power within 5 % of the exact linear
+    answer over the same window, the energy account closed to 1 %, the constraints held."""
     s = load_scenario(SCENARIOS / f"{name}.toml")
     run_scenario(s, tmp_path / "run.h5", in_process=True, progress=False, log=None)
     out = irregular_check(name, tmp_path / "run.h5")

@@ -191,7 +191,7 @@ def scenario_text(name: str, layout, header: str, waves: str, simulation: str, h
             "water_depth = inf        # deep water (the tank depth is not given; finite depth is 5x dearer)",
             "", waves.strip(), "", "[hydro]", hydro_grid.strip(),
             "headings_deg = [0.0]",
-            "irf_duration = 15.0     # s: the kernels of 0.5 m nodes 1.4-4.8 m apart are down to 1e-3 of their peak",
+            "irf_duration = 60.0     # s: node-to-node kernels outlast 15 s (docs/arrays.md: kernel vs database)",
             "irf_d_omega = 0.02      # B resampled for the impulse response",
             "damping_tail = 3.0      # B continued as B(12) (12/omega)^3 above the database",
             'added_mass_inf = "ogilvie"', "",
