@@ -27,6 +27,8 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    three bodies, two hinges): the same figures, and the errors of the period and damping ratio of its two
    free modes fitted to the run (``orchestrator.decay.fit_decay``, 20 s to the end) against the linear
    model's roots (``orchestrator.decay.natural_modes``, as tests/test_f3of.py does over a longer run).
+   Then seed 000's 4N3LA and 9N9LA node/link-arm arrays, 20 s of their bundled irregular sea: real-time
+   factors on the compiled and the Python path (issue 15: the seed 000 scenarios join the benchmark).
 
 Run: python benchmarks/bench_speed.py --out benchmarks/results/speed.txt   (about 5-10 min)
      python benchmarks/bench_speed.py --sections 3                          (part 3 only)
@@ -434,6 +436,18 @@ def section_3(lines: list[str], quick: bool) -> None:
         errs = "; ".join(f"{100 * p:+.2f}%, {100 * d:+.1f}%" for p, d in f3of_dt3_errors(data))
         lines.append(f"{label:<30}{rtf:8.1f}{rtf_cpu:7.1f}  {errs}")
         print(lines[-1], flush=True)
+    duration = 5.0 if quick else 20.0
+    lines += ["", f"## 3c. Seed 000's node/link-arm arrays (scenarios/array_4n3la.toml, array_9n9la.toml as bundled: "
+              f"index-3, 0.025 s step, irregular sea) over {duration:g} s through fmpy: real-time factor of the "
+              "stepping loop on the compiled path (ropes, PTOs on the spherical joints' rotation-vector components) "
+              "and on the Python path",
+              f"{'scene':<16}{'path':<14}{'RTF':>8}{'CPU':>7}"]
+    for name in ("array_4n3la", "array_9n9la"):
+        for label, compiled in (("compiled", True), ("python", False)):
+            (rtf, rtf_cpu), _, _ = run_scene(name, compiled, duration)
+            lines.append(f"{name:<16}{label:<14}{rtf:8.2f}{rtf_cpu:7.2f}")
+            print(lines[-1], flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@ An FMU runs its Python sources from a fresh temporary folder every time it is in
 own cache locators key the cache on the source file's *directory*, so every run would recompile
 the kernels (several seconds). The locator below keys it on the source file's *content* instead,
 in ``$WEC_COSIM_CACHE/numba`` (default ``~/.cache/wec-cosim/numba``): the same sources, wherever they
-are, load the compiled machine code in tens of milliseconds. Caches of other source versions unused for
+are, load the compiled machine code in tens of milliseconds. A kernel module other than ``kernels.py``
+(``nullspace_kernels.py``) compiles ``kernels.py``'s functions into its own machine code, so its key
+covers both files' content. Caches of other source versions unused for
 30 days are removed. If numba is not installed, or the cache
 folder cannot be written, :data:`AVAILABLE` tells the callers (the model then runs on its Python path,
 or numba compiles in memory).
@@ -19,7 +21,10 @@ from pathlib import Path
 
 
 def cache_root() -> Path:
-    """Folder of the compiled kernels (beside the FMU cache)."""
+    """Folder of the compiled kernels: ``$WEC_COSIM_NUMBA_CACHE`` if set (the test suite shares one across its
+    processes while each session builds its FMUs into a private cache), else beside the FMU cache."""
+    if os.environ.get("WEC_COSIM_NUMBA_CACHE"):
+        return Path(os.environ["WEC_COSIM_NUMBA_CACHE"])
     base = os.environ.get("WEC_COSIM_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim")
     return Path(base) / "numba"
@@ -36,6 +41,9 @@ try:
 
         def __init__(self, py_file: str) -> None:
             data = Path(py_file).read_bytes()
+            base = Path(py_file).with_name("kernels.py")
+            if base != Path(py_file) and base.is_file():  # another module's kernels call these: their machine code
+                data += base.read_bytes()  # is compiled into that module's cache, which must follow them
             self._stamp = hashlib.sha256(data).hexdigest()[:20]
             self._path = str(cache_root() / f"{Path(py_file).stem}-{self._stamp}")
 

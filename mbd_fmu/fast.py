@@ -1,18 +1,22 @@
 """The compiled path of the multibody model: which models it covers, and the plan its kernels run on.
 
 :mod:`mbd_fmu.kernels` evaluates the model (mass matrix, forces, constraints, tangents) and whole
-generalised-alpha steps in machine code. It covers:
+generalised-alpha and RKMK steps in machine code (the null-space formulation's steps in
+:mod:`mbd_fmu.nullspace_kernels`). It covers:
 
 * rigid bodies and point masses on any subset of degrees of freedom, infinite-frequency added mass,
   gravity and static loads, gyroscopic moments;
 * every joint kind (the four constraint primitives: point, perp, plane, distance), closed loops and
   redundant constraints (the kept rows, re-chosen along the motion as on the Python path);
-* force elements :class:`~mbd_fmu.moorings.LinearMooring` and
+* force elements :class:`~mbd_fmu.moorings.LinearMooring`,
   :class:`~mbd_fmu.force_elements.CoordinateSpringDamper` (spring-dampers, rotary spring-dampers,
-  bushings on translations, PTOs with their nonlinear law) on a distance, a slide or a joint angle.
+  bushings, PTOs with their nonlinear law), :class:`~mbd_fmu.force_elements.Rope` (tension only) and
+  :class:`~mbd_fmu.force_elements.CoulombFriction` on a distance, a slide, a joint angle or a
+  rotation-vector component (relative rotations: bushings and PTOs on spherical joints, the arrays'
+  link arms).
 
-A model with anything else (prescribed motion, ropes, friction, catenary lines, spring-dampers on a
-rotation-vector component, any element defined elsewhere) runs on the Python path, unchanged; so
+A model with anything else (prescribed motion, catenary lines, any element defined elsewhere) runs
+on the Python path, unchanged; so
 does every model when numba is missing or ``WEC_COSIM_NO_JIT`` is set. :func:`compiled_model`
 returns None then. The plan is derived data: formulations rebuild it from the model (it is not part
 of a saved state).
@@ -26,12 +30,13 @@ import numpy as np
 
 from . import kernels
 from ._jit import AVAILABLE
-from .coordinates import Angle, Distance, Slide
-from .force_elements import CoordinateSpringDamper
+from .coordinates import Angle, Distance, RotationComponent, Slide
+from .force_elements import CoordinateSpringDamper, CoulombFriction, Rope
 from .model import MultibodyModel
 from .moorings import LinearMooring
 
-_COORDINATE_KIND = {Distance: 0, Slide: 1, Angle: 2}
+_COORDINATE_KIND = {Distance: 0, Slide: 1, Angle: 2, RotationComponent: 3}  # 3 + k: component k
+_LAW = {CoordinateSpringDamper: 0, Rope: 1, CoulombFriction: 2}  # spring_par[:, 8] (mbd_fmu.kernels._element_law)
 KINDS = {"point": 0, "perp": 1, "plane": 2, "distance": 3}
 
 
@@ -45,7 +50,7 @@ def unsupported(model: MultibodyModel) -> list[str]:
             continue
         if type(e).__name__ == "LinearisedInputForce" and not e.active:
             continue  # the host interface's input force before a host sets it: no force, no tangent
-        if type(e) is CoordinateSpringDamper and type(e.coordinate) in _COORDINATE_KIND:
+        if type(e) in _LAW and type(e.coordinate) in _COORDINATE_KIND:
             continue
         out.append(f"force element {e.name!r} ({type(e).__name__} on {type(getattr(e, 'coordinate', None)).__name__})")
     return out
@@ -95,7 +100,7 @@ class CompiledModel:
                      np.array([(e.stiffness, e.damping if e.damping is not None else np.zeros((6, 6)))
                                for e in moorings], dtype=float).reshape(-1, 2, 6, 6),
                      np.array([e.r0 for e in moorings], dtype=float).reshape(-1, 3)]
-        self.springs = [e for e in m.elements if isinstance(e, CoordinateSpringDamper)]
+        self.springs = [e for e in m.elements if type(e) in _LAW]
         self.spring_position = {id(e): i for i, e in enumerate(self.springs)}
         coords: list = []
         for e in self.springs:
@@ -116,12 +121,14 @@ class CompiledModel:
             if type(c) is Angle:
                 v[2:5] = c.axes_i.T
                 v[5] = c.x_j
+            elif type(c) is RotationComponent:
+                v[0:3], v[3:6] = c.axes_i, c.axes_j
             else:
                 v[0], v[1] = c.si, c.sj
                 if type(c) is Slide:
                     v[2] = c.n
                     v[3, 0] = c.offset
-            kind.append(_COORDINATE_KIND[type(c)])
+            kind.append(_COORDINATE_KIND[type(c)] + (c.k if type(c) is RotationComponent else 0))
             cbody.append((c.bi, c.bj))
             cvec.append(v)
         s = len(coords)
@@ -136,7 +143,7 @@ class CompiledModel:
             np.array([cj.m2.body for cj in m.joints], dtype=np.int64),
             np.array([cj.m2.offset for cj in m.joints], dtype=float).reshape(-1, 3), m.static.copy(),
             np.concatenate([m.mass, m.gravity, m.cg.ravel()])]
-        self.spring_par = np.zeros((len(self.springs), 8))
+        self.spring_par = np.zeros((len(self.springs), 9))
         self._plan = None
         self._kept = None
 
@@ -205,16 +212,75 @@ class CompiledModel:
             return
         par = self.spring_par
         for i, e in enumerate(self.springs):
-            law = e.law
-            par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
-                      law.force_limit, law.velocity_scale)
+            if type(e) is CoordinateSpringDamper:
+                law = e.law
+                par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
+                          law.force_limit, law.velocity_scale, 0.0)
+            elif type(e) is Rope:
+                par[i] = (e.stiffness, e.damping, 0.0, e.length, 0.0, 0.0, 0.0, 1.0, 1.0)
+            else:
+                par[i] = (0.0, 0.0, 0.0, 0.0, e.force, 0.0, 0.0, e.velocity, 2.0)
         for s, c in self.angles:
             self.refs[s] = c.reference
+
+    def dependent_order(self, dep: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
+        """Order of the kept rows and of the dependent slots ``dep`` for a banded LU of C_d
+        (:mod:`mbd_fmu.nullspace_kernels`), and its lower and upper bandwidths: bodies in breadth-first order
+        along the rows that couple them, rows by their first and last body, slots by body. Dense (bandwidths
+        r - 1) when the band is not narrow."""
+        m = self.model
+        kept = m.kept
+        kpos = -np.ones(m.m, dtype=np.int64)
+        kpos[kept] = np.arange(len(kept))
+        pairs = np.zeros((len(kept), 2), dtype=np.int64)
+        for (bi, bj), rows in zip(self.prim[1], self.prim[4], strict=True):
+            for r in rows[rows >= 0]:
+                if kpos[r] >= 0:
+                    pairs[kpos[r]] = (bi, bj)
+        rank = _breadth_first(m.N + 1, pairs)
+        rank[m.N] = -1  # the ground first: its rows couple one body only
+        body_of = (m.sel // 6)[dep]
+        rows = np.lexsort((rank[pairs].max(axis=1), rank[pairs].min(axis=1))).astype(np.int64)
+        cols = np.lexsort((dep, rank[body_of])).astype(np.int64)
+        r = len(dep)
+        if r == 0:
+            return rows, cols, 0, 0
+        touches = (body_of[cols][None, :] == pairs[rows][:, :1]) | (body_of[cols][None, :] == pairs[rows][:, 1:])
+        i, j = np.nonzero(touches)
+        kl, ku = int(max(0, np.max(i - j))), int(max(0, np.max(j - i)))
+        if kl + ku > r // 2:
+            kl = ku = r - 1
+        return rows, cols, kl, ku
 
     def commit(self, refs: np.ndarray) -> None:
         """Angle references after an accepted step (what ``MultibodyModel.commit`` does on the Python path)."""
         for s, c in self.angles:
             c.reference = float(refs[s])
+
+
+def _breadth_first(count: int, pairs: np.ndarray) -> np.ndarray:
+    """Rank of each of ``count`` nodes in a breadth-first walk of the graph with edges ``pairs`` (each connected
+    component from its lowest node)."""
+    neighbours: list[list[int]] = [[] for _ in range(count)]
+    for a, b in pairs:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    rank = -np.ones(count, dtype=np.int64)
+    k = 0
+    for start in range(count):
+        if rank[start] >= 0:
+            continue
+        rank[start] = k
+        k += 1
+        queue = [start]
+        while queue:
+            node = queue.pop(0)
+            for other in neighbours[node]:
+                if rank[other] < 0:
+                    rank[other] = k
+                    k += 1
+                    queue.append(other)
+    return rank
 
 
 def _view(ip: np.ndarray, fp: np.ndarray, entry: int, shape: tuple) -> np.ndarray:

@@ -542,6 +542,8 @@ class NullSpace(Formulation):
         self.quality = 0.0
         self.repartitions = 0
         self._known = None  # independent accelerations at the current state (partition, v_s')
+        self._ratio = 0.0  # compiled path: the partition's quality at the current pose
+        self._order: tuple | None = None  # compiled path: C_d's row and column order and bandwidths
 
     def initialize(self, pose: Pose, v: np.ndarray, t: float, inputs: np.ndarray | None = None) -> None:
         super().initialize(pose, v, t, inputs)
@@ -598,6 +600,9 @@ class NullSpace(Formulation):
         self.reselect_rows()
         if self.model.kept is not kept:
             self.dep = self._known = None
+        if self.compiled is not None:
+            self._compiled_step(h)
+            return
         m = self.model
         c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
         if c.shape[0] and (self.dep is None or self._pivot_ratio(c) < 0.1 * self.quality):
@@ -619,6 +624,42 @@ class NullSpace(Formulation):
         self.v, self.vdot, self._known = self.reduced_acceleration(self.pose, vs, self.t + h)
         self.lam = self.multipliers()
         self._finish(h)
+
+    def _compiled_step(self, h: float) -> None:
+        """The step in one compiled call (:func:`mbd_fmu.nullspace_kernels.nullspace_step`: the same method, the
+        reduced accelerations from the banded saddle-point solve); the partition is chosen as on the Python path
+        and its quality measured by the banded LU of C_d (module docstring of :mod:`mbd_fmu.nullspace_kernels`)."""
+        from . import nullspace_kernels as nk
+
+        cm, m = self.compiled, self.model
+        plan = cm.plan()
+        order = getattr(self, "_order", None)  # (absent from states saved by earlier versions)
+        if self.dep is None or order is None or (len(self.dep) and self._ratio < 0.1 * self.quality):
+            c = m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac
+            if c.shape[0]:
+                r = c.shape[0]
+                _, _, piv = qr(c, pivoting=True, mode="economic")
+                self.dep, self.ind = np.sort(piv[:r]), np.sort(piv[r:])
+                self.repartitions += 1
+            else:
+                self.dep, self.ind = np.arange(0), np.arange(m.n)
+            order = self._order = cm.dependent_order(self.dep)
+            self.quality = self._ratio = nk.partition_quality(*plan, self.pose.r, self.pose.R, cm.refs, self.t,
+                                                              self.dep, *order)
+        tab = TABLEAUS[self.settings.integrator]
+        ok, r1, rot1, v1, vd1, lam1, refs, ratio = nk.nullspace_step(
+            *plan, self.pose.r, self.pose.R, self.v, self.vdot, self.inputs, cm.refs, self.t, h, *_tableau_arrays(tab),
+            self.dep, self.ind, *order, 1e-3 * self.settings.newton_tolerance * self.length,
+            self.settings.max_iterations)
+        if not ok:
+            raise ConvergenceError(f"dependent coordinates did not converge at t = {self.t + h:g} s")
+        if not np.all(np.isfinite(vd1)):
+            raise np.linalg.LinAlgError("singular mass or constraint matrix (consistent acceleration)")
+        self.pose, self.v, self.vdot, self.lam, self._ratio = Pose(r1, rot1), v1, vd1, lam1, ratio
+        self._known = None
+        self.t += h
+        self.steps += 1
+        cm.commit(refs)
 
     def correct_dependent(self, pose: Pose, t: float) -> Pose:
         """Newton on the dependent positions with the independent ones held."""

@@ -19,10 +19,12 @@ Plan layout (index: content):
  (v_i, v_j, n_i); 10 prim_c0 (P,); 11 prim_rows (P, 3) int (global rows, -1 none); 12 prim_kept (P, 3) int
  (kept position, -1 none);
  13 moor_body (Q,) int; 14 moor_kd (Q, 2, 6, 6) (K, D); 15 moor_r0 (Q, 3);
- 16 coord_kind (S,) int (0 distance, 1 slide, 2 angle); 17 coord_body (S, 2) int; 18 coord_vec (S, 6, 3)
- (s_i, s_j, n or axes_i columns x, y, z, x_j); 19 spring_coord (E,) int; 20 angle_ref (S,) (unwrapping references,
- updated by the caller) ; 21 spring_par (E, 8) (k, c, u, neutral, friction, quadratic, force limit, velocity scale)
- ; 22 m (all rows), 23 n_kept rows; 24 order (n + r,) int of the saddle-point unknowns (reverse Cuthill-McKee of the
+ 16 coord_kind (S,) int (0 distance, 1 slide, 2 angle, 3 + k component k of a rotation vector); 17 coord_body
+ (S, 2) int; 18 coord_vec (S, 6, 3) (s_i, s_j, n or axes_i columns x, y, z, x_j; a rotation component: axes_i rows
+ 0-2, axes_j rows 3-5); 19 spring_coord (E,) int; 20 angle_ref (S,) (unwrapping references, updated by the caller);
+ 21 spring_par (E, 9) (k, c, u, neutral, friction, quadratic, force limit, velocity scale, law: 0 spring-damper/PTO,
+ 1 rope (k, c, length in the neutral's place), 2 Coulomb friction (F_c in the friction's place, v_reg));
+ 22 m (all rows), 23 n_kept rows; 24 order (n + r,) int of the saddle-point unknowns (reverse Cuthill-McKee of the
  structure); 25 band (2,) int (lower, upper bandwidth in that order; n + r - 1 each for a dense matrix);
  26 prim_joint (P,) int (joint of each primitive, -1 for DOF locks); 27 joint_body2 (J,) int; 28 joint_offset (J, 3)
  (body 2's joint point from its cg, body axes); 29 static (N+1, 6) (static loads); 30 energy (4 N + 3,) (masses,
@@ -408,13 +410,32 @@ def _two_points(rr, RR, W, bi, bj, si, sj):
 
 
 @njit
+def _rotation_component(RR, bi, bj, vec, k):
+    """Component ``k`` of log(F_i^T F_j) (F = R A, marker axes A in ``vec[0:3]``, ``vec[3:6]``) and its Jacobian row
+    on body j's rotation slots (mbd_fmu.coordinates.RotationComponent.evaluate_jacobian_only)."""
+    fi = _mm(RR[bi], vec[0:3])
+    fj = _mm(RR[bj], vec[3:6])
+    phi = log_so3(_mm(fi.T.copy(), fj))
+    jinv = left_jacobian_inverse(phi)
+    row = np.zeros(3)
+    for c in range(3):
+        row[c] = jinv[k, 0] * fi[c, 0] + jinv[k, 1] * fi[c, 1] + jinv[k, 2] * fi[c, 2]
+    return phi[k], row
+
+
+@njit
 def coordinate(plan, s, rr, RR, W, ref):
-    """Value, rate and 12-slot Jacobian of compiled coordinate ``s`` (distance, slide, angle)."""
+    """Value, rate and 12-slot Jacobian of compiled coordinate ``s`` (kind 0 distance, 1 slide, 2 angle, 3 + k
+    component k of a rotation vector)."""
     kind = plan[16][s]
     bi, bj = plan[17][s, 0], plan[17][s, 1]
     vec = plan[18][s]
     jac = np.zeros(12)
-    if kind == 2:  # angle of x_j about z_i from x_i (mbd_fmu.coordinates.Angle)
+    if kind >= 3:  # component kind - 3 of a relative rotation vector (mbd_fmu.coordinates.RotationComponent)
+        value, row = _rotation_component(RR, bi, bj, vec, kind - 3)
+        jac[3:6] = -row
+        jac[9:12] = row
+    elif kind == 2:  # angle of x_j about z_i from x_i (mbd_fmu.coordinates.Angle)
         fx, fy = _mv(RR[bi], vec[2]), _mv(RR[bi], vec[3])
         xj = _mv(RR[bj], vec[5])
         c, sn = _dot(xj, fx), _dot(xj, fy)
@@ -472,6 +493,44 @@ def _law(par, x, v):
 
 
 @njit
+def _element_law(par, x, v):
+    """Generalised force on the coordinate and (dF/dx, dF/dv) of a coordinate element at ``x`` from its neutral
+    value (rope: from its length) and rate ``v``; the law is ``par[8]``: 0 spring-damper/PTO law (:func:`_law`),
+    1 tension-only rope (mbd_fmu.force_elements.Rope: -max(0, k x + c v) when x > 0, tangent k, c while taut),
+    2 regularised Coulomb friction (mbd_fmu.force_elements.CoulombFriction: -F_c tanh(v / v_reg))."""
+    law = par[8]
+    if law == 0.0:
+        return _law(par, x, v)
+    if law == 1.0:
+        t = max(0.0, par[0] * x + par[1] * v) if x > 0 else 0.0
+        if t > 0:
+            return -t, -par[0], -par[1]
+        return 0.0, 0.0, 0.0
+    r = v / par[7]
+    return -par[4] * math.tanh(r), 0.0, -par[4] / par[7] / math.cosh(min(abs(r), 50.0)) ** 2
+
+
+@njit
+def _element_energy(par, x, v):
+    """(potential energy, dissipated power, power supplied by the command, FMU output) of a coordinate element
+    (the Python elements' ``potential``, ``dissipation`` and ``output``; the PTO's supply is its force command times
+    the rate; a rope reports its tension, the others their force on the coordinate)."""
+    law = par[8]
+    f = _element_law(par, x, v)[0]
+    if law == 0.0:
+        if par[4] == 0.0 and par[5] == 0.0 and par[6] == 0.0:
+            diss = par[1] * v * v
+        else:
+            diss = -(f + par[0] * x - par[2]) * v
+        return 0.5 * par[0] * x * x, diss, par[2] * v, f
+    if law == 1.0:
+        stretch = max(x, 0.0)
+        diss = (-f - par[0] * stretch) * v if f < 0 else 0.0
+        return 0.5 * par[0] * stretch * stretch, diss, 0.0, -f
+    return 0.0, -f * v, 0.0, f
+
+
+@njit
 def _add_full(out, colmap, si, sj, val):
     gi, gj = colmap[si], colmap[sj]
     if gi >= 0 and gj >= 0:
@@ -496,7 +555,7 @@ def element_forces(plan, rr, RR, W, refs, f):
         s = plan[19][e]
         par = plan[21][e]
         value, rate, jac = coordinate(plan, s, rr, RR, W, refs[s])
-        force = _law(par, value - par[3], rate)[0]
+        force = _element_law(par, value - par[3], rate)[0]
         bi, bj = plan[17][s, 0], plan[17][s, 1]
         for k in range(6):
             f[6 * bi + k] += jac[k] * force
@@ -546,7 +605,7 @@ def tangents(plan, rr, RR, W, iw, acc, lam_kept, refs):
         s = plan[19][e]
         par = plan[21][e]
         value, rate, jac = coordinate(plan, s, rr, RR, W, refs[s])
-        _, dfdx, dfdv = _law(par, value - par[3], rate)
+        _, dfdx, dfdv = _element_law(par, value - par[3], rate)
         bi, bj = plan[17][s, 0], plan[17][s, 1]
         for i in range(12):
             si = 6 * bi + i if i < 6 else 6 * bj + i - 6
@@ -1001,13 +1060,9 @@ def _powers(plan, pr, pR, v, inputs, refs):
         s = plan[19][e]
         par = plan[21][e]
         value, rate, _ = coordinate(plan, s, rr, RR, W, refs[s])
-        x = value - par[3]
-        if par[4] == 0.0 and par[5] == 0.0 and par[6] == 0.0:
-            spring[e] = par[1] * rate * rate
-        else:
-            spring[e] = -(_law(par, x, rate)[0] + par[0] * x - par[2]) * rate
+        _, spring[e], supplied, _ = _element_energy(par, value - par[3], rate)
         diss += spring[e]
-        supply += par[2] * rate
+        supply += supplied
     return diss, supply + _vdot(inputs, v), spring
 
 
@@ -1154,9 +1209,9 @@ def outputs(ip, fp, pr, pR, v, lam_kept, refs):
     for e in range(n_spring):
         c = plan[19][e]
         par = plan[21][e]
-        x = out[base + 2 * c] - par[3]
-        potential += 0.5 * par[0] * x * x
-        out[base + 2 * n_coord + e] = _law(par, x, out[base + 2 * c + 1])[0]
+        energy_e, _, _, out[base + 2 * n_coord + e] = _element_energy(par, out[base + 2 * c] - par[3],
+                                                                      out[base + 2 * c + 1])
+        potential += energy_e
     out[6 * nb + 1] = potential
     # residuals of all rows and the joints' reactions from the kept rows' multipliers
     kinds, bodies, vecs, c0, kept = plan[7], plan[8], plan[9], plan[10], plan[12]

@@ -222,6 +222,24 @@ class MultibodySimulator:
             out.append((gen[:3], moment))
         return out
 
+    def element_outputs(self, elements: list | None = None) -> list[np.ndarray]:
+        """Outputs of ``elements`` (default: every force element, in the model's order;
+        :meth:`~mbd_fmu.force_elements.ForceElement.output`): from the compiled outputs where the element is
+        compiled (ropes' tensions, springs' and friction's forces), else from the Python element (the kinematics
+        built once, only if one needs it)."""
+        compiled = self.compiled_outputs()
+        position = self.formulation.compiled.spring_position if compiled is not None else {}
+        k = None
+        out = []
+        for e in self.model.elements if elements is None else elements:
+            i = position.get(id(e))
+            if i is not None:
+                out.append(compiled["spring_forces"][i:i + 1].copy())
+                continue
+            k = self.kin if k is None else k
+            out.append(e.output(k))
+        return out
+
     def pto_outputs(self) -> np.ndarray:
         """(n_pto, 4): coordinate from neutral, rate, force, absorbed power."""
         compiled = self.compiled_outputs()

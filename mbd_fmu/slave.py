@@ -319,10 +319,9 @@ class MultibodySlave(VectorSlave):
 
     def _update_forces(self) -> None:
         sim = self.system
-        kin = sim.kin
         for f in self.spec.get("forces", []):
-            parts = [e.output(kin) for e in sim.model.elements
-                     if e.name == f["name"] or e.name.startswith(f["name"] + ".")]
+            parts = sim.element_outputs([e for e in sim.model.elements
+                                         if e.name == f["name"] or e.name.startswith(f["name"] + ".")])
             self.array(f"{f['name']}.force")[:] = np.concatenate(parts) if parts else 0.0
 
     def _update_energy(self) -> None:

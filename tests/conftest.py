@@ -13,15 +13,21 @@ SCENARIOS = ROOT / "scenarios"
 
 @pytest.fixture(scope="session", autouse=True)
 def private_fmu_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """FMUs built by the tests go to a temporary cache, not the user's."""
+    """FMUs built by the tests go to a temporary cache, not the user's. The compiled multibody kernels stay in the
+    numba cache this process already uses (``WEC_COSIM_NUMBA_CACHE``, mbd_fmu/_jit.py), so the FMUs and host
+    processes the tests start load them instead of each compiling them again (minutes of CPU on a fresh clone)."""
+    from mbd_fmu._jit import cache_root
+
     path = tmp_path_factory.mktemp("fmu_cache")
-    old = os.environ.get("WEC_COSIM_CACHE")
+    saved = {key: os.environ.get(key) for key in ("WEC_COSIM_CACHE", "WEC_COSIM_NUMBA_CACHE")}
+    os.environ["WEC_COSIM_NUMBA_CACHE"] = str(cache_root())
     os.environ["WEC_COSIM_CACHE"] = str(path)
     yield path
-    if old is None:
-        os.environ.pop("WEC_COSIM_CACHE", None)
-    else:
-        os.environ["WEC_COSIM_CACHE"] = old
+    for key, old in saved.items():
+        if old is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = old
 
 
 @pytest.fixture(scope="session")

@@ -20,14 +20,15 @@ import numpy as np
 import pytest
 
 from mbd_fmu.bodies import RigidBody
-from mbd_fmu.coordinates import Angle, Distance, Slide
+from mbd_fmu.coordinates import Angle, Distance, RotationComponent, Slide
 from mbd_fmu.fast import compiled_model, unsupported
 from mbd_fmu.force_elements import CoordinateSpringDamper, CoulombFriction, PtoLaw, Rope
 from mbd_fmu.formulations import Settings
 from mbd_fmu.joints import Driver, Harmonic, Joint
 from mbd_fmu.model import MultibodyModel
-from mbd_fmu.moorings import LinearMooring
+from mbd_fmu.moorings import CatenaryLine, LinearMooring
 from mbd_fmu.simulator import MultibodySimulator
+from mbd_fmu.spec import coordinate
 
 from .mechanisms import G, bricard, double_four_bar, hexagon_loop, point_pendulum, rod, rod_pendulum
 
@@ -58,7 +59,38 @@ def two_bodies(kind: str) -> tuple[MultibodyModel, object, np.ndarray]:
     return model, model.reference.copy(), v
 
 
-def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: bool = True):
+def device_elements() -> tuple[MultibodyModel, object, np.ndarray]:
+    """The element kinds of the arrays' link arms (from branch speed2's test, without its catenary lines): a float
+    on a hydrostatic-like spring, a link arm on a spherical joint with penalty PTOs on the relative pitch and yaw
+    (rotation-vector components, one with the nonlinear law) and Coulomb friction on the relative roll, a bushing
+    on a relative translation, and a 3-DOF point mass hanging from the arm's tip by a tension-only rope that is
+    taut at the start and goes slack; released moving."""
+    buoy = RigidBody("float", 800.0, np.diag([300.0, 320.0, 400.0]), np.array([0.0, 0.0, -0.2]))
+    arm = rod("arm", [1.0, 0.0, -0.2], [1.0, 0.0, 0.0], mass=50.0, length=1.6, spin=0.01)
+    weight = RigidBody("weight", 30.0, np.eye(3), np.array([1.8, 0.0, -1.5]), dofs=(0, 1, 2), point_mass=True)
+    joint = Joint("ball", "spherical", "float", "arm", (0.2, 0.0, -0.2))
+    model = MultibodyModel([buoy, arm, weight], [joint], gravity=(0, 0, -G),
+                           static_loads={"float": [0, 0, 900 * G, 0, 0, 0]})
+    roll, pitch, yaw = model.joints[0].coordinates
+    hydrostatics = np.diag([0.0, 0.0, 3e4, 2e4, 2e4, 0.0])
+    sway = coordinate(model, {"kind": "relative", "body1": "float", "body2": "arm", "position": [1.0, 0.0, -0.2],
+                              "dof": 1})
+    model.elements = [
+        LinearMooring("hydrostatics", 0, hydrostatics, None, model.cg[0].copy()),
+        CoordinateSpringDamper("pto_pitch", pitch, 2e3, 500.0, 10.0, 0.0, PtoLaw(friction=5.0, force_limit=800.0)),
+        CoordinateSpringDamper("pto_yaw", yaw, 1e3, 300.0),
+        CoulombFriction("roll_friction", roll, 20.0, 0.05),
+        CoordinateSpringDamper("bushing.sway", sway, 5e3, 50.0),
+        Rope("rope", Distance(1, 2, np.array([0.8, 0.0, 0.0]), np.zeros(3)), 2e4, 50.0, 1.25),
+    ]
+    assert isinstance(pitch, RotationComponent) and isinstance(sway, Slide)
+    v = np.zeros(model.n)
+    v[model.slot_of("float", 2)], v[model.slot_of("float", 3)], v[model.slot_of("float", 5)] = 0.2, 0.1, 0.05
+    v[model.slot_of("arm", 4)] = -0.3
+    return model, model.reference.copy(), v
+
+
+def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: bool = True, each=None):
     out = build()
     model, pose = out[0], out[1]
     v = out[2] if len(out) > 2 else np.zeros(model.n)
@@ -70,10 +102,12 @@ def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: b
     for k in range(steps):
         f = forced * np.sin(3.0 * k * h + np.arange(model.n)) if inputs else None
         sim.advance(h, f)
+        if each is not None:
+            each(sim)
     return sim
 
 
-@pytest.mark.parametrize("formulation", ["index3", "index1"])
+@pytest.mark.parametrize("formulation", ["index3", "index1", "nullspace"])
 @pytest.mark.parametrize("kind", KINDS)
 def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> None:
     fast = run(lambda: two_bodies(kind), formulation, True, 40, 0.01)
@@ -86,6 +120,38 @@ def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> Non
     assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
     assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
     assert fast.energy()["balance"] == pytest.approx(slow.energy()["balance"], abs=1e-6 * max(1.0, slow.work))
+
+
+@pytest.mark.parametrize("formulation", ["index3", "index1", "nullspace"])
+def test_ropes_friction_and_rotation_components_take_the_same_steps_on_both_paths(formulation) -> None:
+    """Ropes, Coulomb friction and spring-dampers/PTOs on rotation-vector components (the arrays' elements):
+    same steps, energy terms and element outputs on both paths; the rope goes slack during the run, so both of
+    its branches are stepped."""
+    tension = []
+    fast = run(device_elements, formulation, True, 40, 0.01,
+               each=lambda sim: tension.append(sim.compiled_outputs()["spring_forces"][-1]))
+    slow = run(device_elements, formulation, False, 40, 0.01)
+    assert fast.formulation.compiled is not None and slow.formulation.compiled is None
+    a, b = fast.formulation, slow.formulation
+    assert np.max(np.abs(a.pose.r - b.pose.r)) < 1e-8
+    assert np.max(np.abs(a.pose.R - b.pose.R)) < 1e-8
+    assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
+    assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
+    ea, eb = fast.energy(), slow.energy()
+    scale = max(1.0, abs(slow.work), abs(slow.dissipated))
+    for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
+        assert ea[key] == pytest.approx(eb[key], abs=1e-6 * scale), key
+    # the kernel's element outputs (rope tension, forces on the coordinates) against the Python elements'
+    compiled = np.concatenate(fast.element_outputs()[1:])
+    k = slow.kin
+    python = np.array([e.output(k)[0] for e in slow.model.elements[1:]])
+    assert np.allclose(compiled, python, rtol=1e-6, atol=1e-6 * np.max(np.abs(python)))
+    assert np.array_equal(compiled, fast.compiled_outputs()["spring_forces"])  # (not the Python elements' values)
+    for x, y in zip(fast.element_outputs(), slow.element_outputs(), strict=True):  # the mooring's wrench too
+        assert x.shape == y.shape and np.allclose(x, y, rtol=1e-6, atol=1e-6 * max(1.0, np.max(np.abs(y))))
+    assert min(tension) == 0.0 and max(tension) > 0.0  # the rope was taut and slack (both branches)
+    for (q1, r1), (q2, r2) in zip(fast.joint_coordinates(), slow.joint_coordinates(), strict=True):
+        assert np.allclose(q1, q2, atol=1e-8) and np.allclose(r1, r2, atol=1e-7)
 
 
 @pytest.mark.parametrize("build", [point_pendulum, rod_pendulum, double_four_bar, hexagon_loop, bricard],
@@ -101,10 +167,10 @@ def test_closed_loops_and_point_masses_on_both_paths(build) -> None:
 def test_models_the_compiled_path_does_not_cover_run_on_the_python_path() -> None:
     model, pose = rod_pendulum()
     angle = model.joints[0].coordinates[0]
-    model.elements = [CoulombFriction("f", angle, 0.5), Rope("r", Distance(model.ground, 0, np.zeros(3),
-                                                                          np.array([0, 0, -0.5])), 100.0, 0.0, 2.0)]
+    model.elements = [CoulombFriction("f", angle, 0.5),
+                      CatenaryLine("c", 0, np.zeros(3), np.array([5.0, 0.0, -3.0]), 7.0, 10.0, 1e7)]
     model.drivers = []
-    assert [s.split(" (")[0] for s in unsupported(model)] == ["force element 'f'", "force element 'r'"]
+    assert [s.split(" (")[0] for s in unsupported(model)] == ["force element 'c'"]
     assert compiled_model(model) is None
     sim = MultibodySimulator(model, Settings("index3"))
     sim.start(pose, np.zeros(model.n))
@@ -131,6 +197,7 @@ def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path
               "print(k.exp_so3(0.1, 0.2, 0.3)[0, 0])")
     env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
     env.pop("WEC_COSIM_NO_JIT", None)
+    env.pop("WEC_COSIM_NUMBA_CACHE", None)
     outputs = []
     entries = []
     for name in ("first", "second"):
@@ -144,6 +211,32 @@ def test_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path
     assert outputs[0] == outputs[1]
     assert any(e.endswith(".nbi") for e in entries[0])
     assert entries[1] == entries[0]
+
+
+def test_null_space_kernels_cache_follows_the_kernels_they_call(tmp_path, monkeypatch) -> None:
+    """nullspace_kernels.py compiles kernels.py's functions into its own cached machine code: its cache key changes
+    when kernels.py changes (else a stale cache would run old kernel code on a new plan layout); kernels.py's own
+    key does not depend on nullspace_kernels.py."""
+    from mbd_fmu import _jit
+
+    if not _jit.AVAILABLE:
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("WEC_COSIM_CACHE", str(tmp_path / "cache"))
+    monkeypatch.delenv("WEC_COSIM_NUMBA_CACHE", raising=False)
+    stamps = []
+    for name, extra in (("a", ""), ("b", "\n# changed\n")):
+        folder = tmp_path / name / "mbd_fmu"
+        folder.mkdir(parents=True)
+        for f in ("kernels.py", "nullspace_kernels.py"):
+            shutil.copy(ROOT / "mbd_fmu" / f, folder / f)
+        with open(folder / "kernels.py", "a") as fh:
+            fh.write(extra)
+        stamps.append([_jit._ContentLocator(str(folder / f)).get_source_stamp()
+                       for f in ("kernels.py", "nullspace_kernels.py")])
+    assert stamps[0][0] != stamps[1][0] and stamps[0][1] != stamps[1][1]
+    with open(tmp_path / "b" / "mbd_fmu" / "nullspace_kernels.py", "a") as fh:
+        fh.write("\n# changed\n")
+    assert _jit._ContentLocator(str(tmp_path / "b" / "mbd_fmu" / "kernels.py")).get_source_stamp() == stamps[1][0]
 
 
 def test_host_input_force_keeps_the_compiled_path_until_a_host_switches_it_on() -> None:
