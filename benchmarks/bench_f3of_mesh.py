@@ -58,6 +58,23 @@ def scaled(values: np.ndarray, reference: np.ndarray) -> np.ndarray:
     return v / np.sqrt(np.outer(s, s))[None]
 
 
+def richardson(coarse: np.ndarray, middle: np.ndarray) -> list[str]:
+    """Observed order and the middle mesh's error from three resolutions (panel count 1 : 2 : 4, so the panel
+    size h goes as 1 : 2^-1/2 : 1/2). With e = C h^p and D the difference against the finest mesh,
+    D_coarse / D_middle = 2^(p/2) + 1, and the middle mesh's own error is D_middle / (1 - 2^(-p/2)).
+    ``coarse``, ``middle``: (Nw, 3) differences of A, B, X per frequency. Returns report lines."""
+    ratio = np.median(coarse / middle, axis=0)
+    order = 2 * np.log2(np.maximum(ratio - 1, 1e-12))
+    error = middle.max(axis=0) / (1 - 2.0 ** (-order / 2))
+    return [f"Richardson over the three resolutions (h ~ panel count^-1/2): median ratio of the differences "
+            f"orig/_x2 A {ratio[0]:.2f}, B {ratio[1]:.2f}, X {ratio[2]:.2f} -> observed order in h "
+            f"A {order[0]:.2f}, B {order[1]:.2f}, X {order[2]:.2f}",
+            f"estimated error of the _x2 mesh (the scenarios' database) against the converged answer, largest over "
+            f"omega: A {error[0]:.3f}, B {error[1]:.3f}, X {error[2]:.3f} (of the check scales); _x4's: "
+            f"A {error[0] * 2 ** (-order[0] / 2):.3f}, B {error[1] * 2 ** (-order[1] / 2):.3f}, "
+            f"X {error[2] * 2 ** (-order[2] / 2):.3f}"]
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="*", help="resolution suffixes to compute ('' '_x2' '_x4')")
@@ -89,14 +106,15 @@ def main(argv: list[str] | None = None) -> None:
         ref_b = scaled(finest.radiation_damping, finest.radiation_damping)
         x_ref = finest.excitation[0][:, DOFS]
         sx = np.abs(x_ref).max(axis=0)
+        diff = {s: np.array([[np.abs(scaled(results[s].added_mass, finest.added_mass)[k] - ref_a[k]).max(),
+                               np.abs(scaled(results[s].radiation_damping, finest.radiation_damping)[k]
+                                      - ref_b[k]).max(),
+                               (np.abs(results[s].excitation[0][k, DOFS] - x_ref[k]) / sx).max()]
+                              for k in range(len(OMEGA))]) for s in list(results)[:-1]}
         for k, w in enumerate(OMEGA):
-            row = [f"{w:7.2f}"]
-            for s in list(results)[:-1]:
-                h = results[s]
-                row += [f"{np.abs(scaled(h.added_mass, finest.added_mass)[k] - ref_a[k]).max():10.4f}",
-                        f"{np.abs(scaled(h.radiation_damping, finest.radiation_damping)[k] - ref_b[k]).max():10.4f}",
-                        f"{(np.abs(h.excitation[0][k, DOFS] - x_ref[k]) / sx).max():10.4f}"]
-            lines.append(" ".join(row))
+            lines.append(f"{w:7.2f} " + " ".join(f"{diff[s][k, q]:10.4f}" for s in diff for q in range(3)))
+        if list(results) == list(RESOLUTIONS):
+            lines += richardson(diff[""], diff["_x2"])
     lines.append(f"# load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     write_report(lines, a.out)
 
