@@ -149,6 +149,7 @@ OMEGAS = (2.6, 4.0, 5.2)
 # The paper's RAOs: node pitch relative to its link arm (joint coordinate 2 of the arm-node joint).
 RELATIVE_PITCH = {"array_4n3la": ("LA2_S2", "LA2_C1", "LA1_S1"), "array_9n9la": ("LA2_S2", "LA5_D1", "LA3_D1")}
 AMPLITUDE = 0.01  # m, seed 000's small regular waves
+STEPS_PER_PERIOD = {"array_4n3la": 40, "array_9n9la": 80}  # macro steps per wave period in the slow test
 
 
 def regular_scenario(name: str, omega: float, duration: float, steps_per_period: int = 40):
@@ -234,8 +235,9 @@ def test_4n3la_cosimulation_through_fmpy_matches_the_frequency_domain(tmp_path) 
 @pytest.mark.parametrize("name", ARRAYS)
 @pytest.mark.parametrize("omega", OMEGAS)
 def test_arrays_match_the_frequency_domain_at_three_frequencies(tmp_path, name, omega) -> None:
-    """The FMU slaves in-process (same code, no FMI C layer), 100 s at T/40."""
-    s = regular_scenario(name, omega, 100.0)
+    """The FMU slaves in-process (same code, no FMI C layer), 100 s at T/40 (4N3LA) or T/80 (9N9LA: at T/40 its
+    step error reaches 2.3 % in D3's heave at 5.2 rad/s, at T/80 0.34 %; docs/arrays.md)."""
+    s = regular_scenario(name, omega, 100.0, STEPS_PER_PERIOD[name])
     result = run_scenario(s, tmp_path / "run.h5", in_process=True, progress=False, log=None)
     worst = check_against_frequency_domain(s, tmp_path / "run.h5", result)
     print(f"{name} {omega} rad/s:", worst)

@@ -273,8 +273,10 @@ seed = 3
 """
 
 GRID_4 = "omega = { start = 0.1, stop = 12.0, step = 0.1 }   # 171 panels per node, 5 per wavelength at 12 rad/s"
-GRID_9 = ("omega = { start = 0.2, stop = 12.0, step = 0.2 }   # 0.2 rad/s keeps the 54-DOF database at 2.8 MB "
-          "(docs/arrays.md: the 4N3LA database at 0.1 and 0.2 rad/s)")
+GRID_9 = ("omega = { start = 0.2, stop = 12.0, step = 0.2 }   # 0.2 rad/s keeps the 54-DOF database small "
+          "(docs/arrays.md: the 4N3LA database at 0.1 and 0.2 rad/s)\n"
+          "omega_refine = [{ start = 4.0, stop = 6.6, step = 0.05 }]   # the hexagon's interaction resonances "
+          "near 4.7 and 6.2 rad/s (docs/arrays.md)")
 
 
 # Mean power against one PTO's stiffness and damping: `wec-cosim sweep` of main's Dask sweep (issue 18,
