@@ -107,6 +107,15 @@ def run(build, formulation: str, compiled: bool, steps: int, h: float, inputs: b
     return sim
 
 
+def assert_same_state(a, b) -> None:
+    """Formulations ``a`` (compiled) and ``b`` (Python) at the same pose, velocities and multipliers: each step
+    converges to 1e-10 of max(1 m, largest velocity) on either path."""
+    assert np.max(np.abs(a.pose.r - b.pose.r)) < 1e-8
+    assert np.max(np.abs(a.pose.R - b.pose.R)) < 1e-8
+    assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
+    assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
+
+
 @pytest.mark.parametrize("formulation", ["index3", "index1", "nullspace"])
 @pytest.mark.parametrize("kind", KINDS)
 def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> None:
@@ -114,11 +123,7 @@ def test_compiled_and_python_paths_take_the_same_steps(kind, formulation) -> Non
     slow = run(lambda: two_bodies(kind), formulation, False, 40, 0.01)
     assert fast.formulation.compiled is not None and slow.formulation.compiled is None
     a, b = fast.formulation, slow.formulation
-    # each step converges to 1e-10 of max(1 m, largest velocity) on either path; 40 steps
-    assert np.max(np.abs(a.pose.r - b.pose.r)) < 1e-8
-    assert np.max(np.abs(a.pose.R - b.pose.R)) < 1e-8
-    assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
-    assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
+    assert_same_state(a, b)  # 40 steps
     assert fast.energy()["balance"] == pytest.approx(slow.energy()["balance"], abs=1e-6 * max(1.0, slow.work))
 
 
@@ -133,10 +138,7 @@ def test_ropes_friction_and_rotation_components_take_the_same_steps_on_both_path
     slow = run(device_elements, formulation, False, 40, 0.01)
     assert fast.formulation.compiled is not None and slow.formulation.compiled is None
     a, b = fast.formulation, slow.formulation
-    assert np.max(np.abs(a.pose.r - b.pose.r)) < 1e-8
-    assert np.max(np.abs(a.pose.R - b.pose.R)) < 1e-8
-    assert np.max(np.abs(a.v - b.v)) < 1e-7 * max(1.0, np.max(np.abs(b.v)))
-    assert np.max(np.abs(a.lam - b.lam)) < 1e-6 * max(1.0, np.max(np.abs(b.lam)))
+    assert_same_state(a, b)
     ea, eb = fast.energy(), slow.energy()
     scale = max(1.0, abs(slow.work), abs(slow.dissipated))
     for key in ("kinetic", "potential", "dissipated", "external_work", "balance"):
