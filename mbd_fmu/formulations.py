@@ -60,6 +60,9 @@ from .model import MultibodyModel
 
 FORMULATIONS = ("index3", "index1", "nullspace")
 _NO_LU, _NO_PIV = np.zeros((0, 0)), np.zeros(0, dtype=np.int64)
+_NO_PTOS, _NO_ENERGY = np.zeros(0, dtype=np.int64), np.zeros(4)
+# offsets of the fused call's output, computed in Python (the kernel's own function, not compiled for this)
+_macro_layout = getattr(kernels.macro_layout, "py_func", kernels.macro_layout)
 RESTARTS = ("consistent", "increment", "acceleration", "none")
 
 
@@ -250,7 +253,7 @@ class Formulation:
         if cm is not None and self._quality is not None and self._quality[0] == self.steps:
             quality = self._quality[1]  # computed by the compiled step at its end pose
         elif cm is not None:
-            quality = kernels.row_quality(*cm.plan(), self.pose.r, self.pose.R)
+            quality = self._kept_quality()
         else:
             quality = _row_quality(m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac)
         last = self._row_search
@@ -266,6 +269,11 @@ class Formulation:
             m.kept = kept
             self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
             self.row_changes += 1
+
+    def _kept_quality(self) -> float:
+        """The kept rows' quality at the current pose on the compiled path (:meth:`reselect_rows`)."""
+        cm = self.compiled
+        return kernels.row_quality(*cm.plan(), self.pose.r, self.pose.R)
 
     def _finish(self, h: float) -> None:
         self.t += h
@@ -314,12 +322,10 @@ class Index3(Formulation):
         delta = self.coef.alpha_m - self.coef.alpha_f
         if self.settings.restart == "acceleration" or delta == 0.0:
             return self.vdot.copy()
-        cm = self.compiled
-        if cm is not None:
-            a, stiff = kernels.start_acceleration(*cm.plan(refresh=False), self.pose.r, self.pose.R, self.v, self.vdot,
-                                                  self.inputs, cm.refs, h, delta)
+        if self.compiled is not None:
+            _, _, _, _, _, stiff, out, at = self.fused(h, 0, shift=1)
             self.stiff_restarts += int(stiff)
-            return a
+            return out[at[5]:at[6]]
         eps = 1e-5 * h
         m = self.model
         fwd = self.pose.retract(m.full(eps * self.v))
@@ -433,46 +439,104 @@ class Index3(Formulation):
 
 
     def _compiled_step(self, h: float) -> bool:
-        """The step in one compiled call (:func:`mbd_fmu.kernels.ga_full_step`, the same iteration as :meth:`step`);
-        False if it did not converge (the Python path then takes the step, with its own retries and errors)."""
+        """The step in one compiled call (:func:`mbd_fmu.kernels.ga_macro_step` with one substep: the same iteration
+        as :meth:`step`); False if it did not converge (the Python path then takes the step, with its own retries
+        and errors)."""
         self.reselect_rows()
-        cm, m = self.compiled, self.model
-        ip, fp = cm.plan()  # PTO commands and angle references read from the elements once per step
-        if self.a is None:
-            self.a = self._start_acceleration(h)
-        kept = m.kept
-        n, r, nb = m.n, len(kept), m.N
-        nn = n + r
-        for _ in range(2):
-            have = self._lu_key is not None and self._lu_key[0] == h and (
-                self._lu_key[1] is kept or np.array_equal(self._lu_key[1], kept))
-            if not have and (self._lu is None or self._lu.shape[0] != nn):
-                self._lu, self._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
-            status, iterations, keep, quality, out = kernels.ga_full_step(
-                ip, fp, self.pose.r, self.pose.R, self.v, self.vdot, self.a, self.lam, self.inputs, cm.refs, h,
-                self._coef, self.settings.newton_tolerance, self.length, self.settings.max_iterations, self._lu,
-                self._piv, have)
-            self.newton_iterations += iterations
-            if status == 0 or not have:
-                break
-            self._lu_key = None  # a stale matrix from earlier steps: retry with a fresh one
-            self.newton_retries += 1
+        start = self.a is None
+        status, _, iterations, retries, keep, stiff, out, at = self.fused(h, 1, shift=int(start))
+        self.newton_iterations += iterations
+        self.newton_retries += retries
+        self.stiff_restarts += int(stiff)
         if status != 0:
+            if start:
+                self.a = out[at[5]:at[6]]  # the start acceleration the failed attempt began with
             self._lu_key = None
             return False
-        self._lu_key = (h, kept) if keep else None  # the buffers stay; the key says whether they hold factors
-        k = n + r + 12 * nb
-        self.vdot, self.lam = out[:n], out[n:nn]
-        self.pose = Pose(out[nn:nn + 3 * nb].reshape(nb, 3), out[nn + 3 * nb:k].reshape(nb, 3, 3))
-        self.v, self.a = out[k:k + n], out[k + n:k + 2 * n]
-        self._quality = (self.steps + 1, quality)
+        self._lu_key = (h, self.model.kept) if keep else None  # the buffers stay; the key: do they hold factors
         self.t += h
         self.steps += 1
-        s = k + 2 * n + len(cm.refs)
-        cm.commit(out[k + 2 * n:s])
-        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
-        self.end_powers = (self.steps, float(out[s]), float(out[s + 1]), out[s + 2:])
+        self.take_fused(out, at)
         return True
+
+    # ------------------------------------------------------------------ the compiled call
+    def fused(self, h: float, substeps: int, consistent: bool = False, shift: int = 0, pose: Pose | None = None,
+              v: np.ndarray | None = None, inputs: np.ndarray | None = None, energy: np.ndarray | None = None,
+              ptos: np.ndarray | None = None, outputs: bool = False) -> tuple:
+        """One call of :func:`mbd_fmu.kernels.ga_macro_step` (compiled path only) from the current state, or from
+        ``pose``, ``v`` (``consistent``: the consistent acceleration there; ``substeps`` 0 then), with ``inputs``
+        (default: the held ones): ``substeps`` equal steps over ``h`` after the restart (``consistent``, ``shift``),
+        the energy sums ``energy`` (dissipated, external work, PTO energy; the initial mechanical energy for the
+        balance) with the PTOs' springs ``ptos``, the outputs (with the balance and the PTOs' outputs) at the end
+        if ``outputs``. Every compiled evaluation of an index-3 run goes through this one entry point (numba
+        compiles it once).
+        Returns (status, substeps done, iterations, retries, keep the factors, stiff restart, out, offsets of out);
+        the formulation's state is not changed (:meth:`take_fused` takes the state reached)."""
+        cm, m = self.compiled, self.model
+        kept = m.kept
+        n, r = m.n, len(kept)
+        nn = n + r
+        if self._lu is None or self._lu.shape[0] != nn:
+            self._lu, self._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
+        key = self._lu_key
+        have = bool(substeps > 0 and key is not None and key[0] == h / substeps
+                    and (key[1] is kept or np.array_equal(key[1], kept)))
+        ptos = _NO_PTOS if ptos is None else ptos
+        at = self._offsets(len(ptos))
+        fresh = consistent and substeps == 0  # a consistent acceleration only: the state's v' and lambda not read
+        vdot = np.zeros(n) if fresh else self.vdot
+        lam = np.zeros(r) if fresh else self.lam
+        a = vdot if fresh or self.a is None else self.a
+        pose = self.pose if pose is None else pose
+        ip, fp = cm.plan()  # PTO commands and angle references of now
+        out = np.empty(at[-1] if outputs else at[11])
+        status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
+            ip, fp, pose.r, pose.R, self.v if v is None else v, vdot, a, lam, self.inputs if inputs is None else inputs,
+            cm.refs, float(h), int(substeps), self._coef, float(self.settings.newton_tolerance),
+            float(getattr(self, "length", 1.0)),  # (set by initialize after its consistent acceleration)
+            int(self.settings.max_iterations), self._lu, self._piv, have, bool(consistent), int(shift),
+            0.0 if self.settings.restart == "acceleration" else float(self.coef.alpha_m - self.coef.alpha_f),
+            ptos, _NO_ENERGY if energy is None else energy, out)
+        return status, done, iterations, retries, keep, stiff, out, at
+
+    def take_fused(self, out: np.ndarray, at: np.ndarray) -> None:
+        """The state reached by :meth:`fused` (``t`` and ``steps`` are the caller's): v', lambda, pose, v, a (views
+        of ``out``, a fresh array per call), the angle references' commit, the row quality and the end powers."""
+        nb = self.model.N
+        self.vdot, self.lam = out[at[0]:at[1]], out[at[1]:at[2]]
+        self.pose = Pose(out[at[2]:at[3]].reshape(nb, 3), out[at[3]:at[4]].reshape(nb, 3, 3))
+        self.v, self.a = out[at[4]:at[5]], out[at[5]:at[6]]
+        self.compiled.commit(out[at[6]:at[7]])
+        self._quality = (self.steps, float(out[at[10]]))
+        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
+        self.end_powers = (self.steps, float(out[at[8]]), float(out[at[8] + 1]), out[at[9]:at[10]])
+
+    def _offsets(self, ptos: int = 0) -> np.ndarray:
+        """Offsets of :meth:`fused`'s output (:func:`mbd_fmu.kernels.macro_layout`) for the current kept rows and
+        ``ptos`` PTOs."""
+        m = self.model
+        cached = getattr(self, "_layout", None)
+        if cached is not None and cached[0] is m.kept and cached[1] == ptos:
+            return cached[2]
+        cm = self.compiled
+        nb, ne = m.N, len(cm.springs)
+        at = _macro_layout(m.n, len(m.kept), nb, len(cm.refs), ne,
+                           6 * nb + 3 + 6 * len(m.joints) + 2 * len(cm.coordinates) + ne, ptos)
+        self._layout = (m.kept, ptos, at)
+        return at
+
+    def _kept_quality(self) -> float:
+        _, _, _, _, _, _, out, at = self.fused(0.0, 0)
+        return float(out[at[10]])
+
+    def acceleration(self, pose: Pose, v: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Consistent ``v'`` and ``lambda`` (kept rows); on the compiled path by :meth:`fused`."""
+        if self.compiled is None:
+            return super().acceleration(pose, v, t)
+        status, _, _, _, _, _, out, at = self.fused(0.0, 0, consistent=True, pose=pose, v=np.asarray(v, float))
+        if status == 3:
+            raise np.linalg.LinAlgError("singular mass or constraint matrix (consistent acceleration)")
+        return out[at[0]:at[1]], out[at[1]:at[2]]
 
 
 class Index1(Formulation):

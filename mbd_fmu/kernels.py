@@ -891,28 +891,24 @@ def _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs, refs):
 
 
 @njit
-def ga_full_step(ip, fp, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, newton_tolerance, length,
-                 max_iterations, lu, piv, have_lu):
-    """:func:`ga_step`, then (if converged) the update, the angle references and (with redundant constraints)
-    the kept rows' quality at the new pose: the whole step in one call. ``lu``, ``piv``: the kept factors
-    (``have_lu``), overwritten when the matrix is refreshed.
-
-    Returns (status, iterations, keep, quality, out) with ``out`` = [v', lambda, r, R, v, a, angle references,
-    dissipated and supplied power, each spring's dissipated power (:func:`powers` at the new state)] flattened
-    (one array: fewer objects and calls between Python and machine code)."""
-    plan = unpack(ip, fp)
+def _ga_substep(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, newton_tolerance, length,
+                max_iterations, lu, piv, have_lu):
+    """One step of :func:`ga_step` and, if converged, its update, the angle references, (with redundant
+    constraints) the kept rows' quality and the powers at the new state: (status, iterations, keep, quality, v',
+    lambda, r, R, v, a, refs, dissipated power, supplied power, springs' dissipated powers); the state entries are
+    the old ones when not converged."""
     tol = newton_tolerance * max(length, np.abs(v_n).max() if v_n.shape[0] else 0.0)
     status, iterations, keep, vd, lam = ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef,
                                                 tol, max_iterations, lu, piv, have_lu)
     if status != 0:
-        return status, iterations, keep, 1.0, np.zeros(0)
+        return (status, iterations, keep, 1.0, vd_n, lam_n, pr, pR, v_n, a_n, refs, 0.0, 0.0,
+                np.zeros(plan[19].shape[0]))
     r1, R1, v1, a1 = ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
     rr, RR, W = snapshot(r1, R1, v1, plan[0])
     refs1 = angle_references(plan, rr, RR, W, refs)
     quality = _row_quality(plan, rr, RR, W) if plan[23] < plan[22] else 1.0
     diss, supply, spring = _powers(plan, r1, R1, v1, inputs, refs1)
-    out = np.concatenate((vd, lam, r1.ravel(), R1.ravel(), v1, a1, refs1, np.array([diss, supply]), spring))
-    return status, iterations, keep, quality, out
+    return status, iterations, keep, quality, vd, lam, r1, R1, v1, a1, refs1, diss, supply, spring
 
 
 @njit
@@ -1167,11 +1163,16 @@ def rkmk_index1(ip, fp, pr, pR, v, vdot, inputs, refs, h, ta, tb, tol, max_itera
 
 @njit
 def outputs(ip, fp, pr, pR, v, lam_kept, refs):
+    """:func:`_outputs` on a packed plan (the entry point from Python)."""
+    return _outputs(unpack(ip, fp), pr, pR, v, lam_kept, refs)
+
+
+@njit
+def _outputs(plan, pr, pR, v, lam_kept, refs):
     """Everything the FMU reports, in one call (MultibodySimulator's output methods): flat array of
     displacements (N, 6) (cg translation from ``cg``, rotation vector), kinetic and potential energy, the largest
     constraint residual over all rows, each joint's reaction force and moment about its point on body 2 (J, 6),
     each compiled coordinate's value and rate (S, 2) and each spring's force (E,)."""
-    plan = unpack(ip, fp)
     sel = plan[0]
     nb = pr.shape[0]
     rr, RR, W = snapshot(pr, pR, v, sel)
@@ -1266,3 +1267,128 @@ def outputs(ip, fp, pr, pR, v, lam_kept, refs):
         f = out[o:o + 3].copy()
         out[o + 3:o + 6] += _cross(arm, f)
     return out
+
+
+# ---------------------------------------------------------------------------------------------- fused macro step
+
+
+@njit
+def macro_layout(n, r, nb, s, e, o, p):
+    """Offsets in :func:`ga_macro_step`'s ``out`` (n slots, r kept rows, nb bodies, s coordinates, e springs, o
+    outputs, p PTOs): v', lambda, r (nb, 3), R (nb, 3, 3), v, a, angle references, [dissipated, external work, PTO
+    energy], [dissipated, supplied, PTO power], springs' dissipated powers, row quality, :func:`outputs`, [energy
+    balance, each PTO's (coordinate from neutral, rate, force, absorbed power)]; the last entry is the total size."""
+    sizes = np.array([n, r, 3 * nb, 9 * nb, n, n, s, 3, 3, e, 1, o, 1 + 4 * p])
+    offsets = np.zeros(sizes.shape[0] + 1, dtype=np.int64)
+    for k in range(sizes.shape[0]):
+        offsets[k + 1] = offsets[k] + sizes[k]
+    return offsets
+
+
+@njit
+def ga_macro_step(ip, fp, pr, pR, v, vdot, a, lam, inputs, refs, h, substeps, coef, newton_tolerance, length,
+                  max_iterations, lu, piv, have_lu, consistent, shift, delta, pto_springs, energy, out):
+    """A whole multibody macro step of the index-3 formulation in one call (MultibodySimulator.advance with
+    Index3's compiled steps, the same operations in the same order):
+
+    1. the restart: with ``consistent`` the consistent v' and lambda of the held ``inputs`` (:func:`acceleration`);
+       ``shift`` 1: the algorithmic acceleration restarted as a = v' + Delta h v'' (:func:`start_acceleration`,
+       ``delta`` = alpha_m - alpha_f, 0 for a = v'), 2: a += the jump of v' (the ``increment`` restart), 0: a kept;
+    2. the powers at the start (:func:`_powers`), then ``substeps`` equal generalised-alpha steps of h / substeps
+       (:func:`ga_step`: LU factors ``lu``, ``piv`` reused while ``have_lu`` and the contraction stay good, a
+       stale matrix retried once with a fresh one), each followed by the angle references' commit, the row quality
+       and the powers at its end, and the trapezoidal energy sums ``energy`` = (dissipated, external work, PTO
+       energy) += 0.5 h / substeps (P_start + P_end) (O(h^2)); ``pto_springs``: the PTOs' spring positions;
+    3. the outputs at the end (:func:`_outputs`), the energy balance (``energy[3]``: the initial mechanical energy)
+       and the PTOs' outputs, if ``out`` has room for them.
+
+    With ``substeps`` 0 it evaluates the state given: the restart's accelerations, the powers, the kept rows'
+    quality (redundant constraints) and the outputs (each formulation's compiled evaluation of an index-3 run goes
+    through this one entry point: numba compiles one call tree).
+
+    It stops early after a substep that did not converge (status 1 or 2: the caller takes the remaining substeps on
+    its own path) or, with redundant constraints, after a substep whose kept rows' quality fell below 0.5 (the
+    caller re-selects the rows). Writes the state reached into ``out`` (:func:`macro_layout`) and returns
+    (status, substeps done, Newton iterations, stale-matrix retries, keep the factors, stiff restart); status 3:
+    singular consistent acceleration (nothing done)."""
+    plan = unpack(ip, fp)
+    nb = pr.shape[0]
+    vd_n, lam_n, a_n = vdot, lam, a
+    stiff = False
+    if consistent:
+        vd_n, lam_n = acceleration(plan, pr, pR, v, inputs, refs)
+        if not np.all(np.isfinite(vd_n)):
+            return 3, 0, 0, 0, False, False
+        if shift == 2:
+            a_n = a + (vd_n - vdot)
+    hs = h / substeps if substeps > 0 else h
+    if shift == 1:
+        if delta == 0.0:
+            a_n = vd_n.copy()
+        else:
+            a_n, stiff = start_acceleration(ip, fp, pr, pR, v, vd_n, inputs, refs, hs, delta)
+    diss, supply, spring = _powers(plan, pr, pR, v, inputs, refs)
+    pto = 0.0
+    for i in pto_springs:
+        pto += spring[i]
+    r_n, R_n, v_n, refs_n = pr, pR, v, refs
+    dissipated, work, pto_energy = energy[0], energy[1], energy[2]
+    status, done, iterations, retries, keep, quality = 0, 0, 0, 0, have_lu, 1.0
+    redundant = plan[23] < plan[22]
+    if substeps == 0 and redundant:  # the kept rows' quality at the given pose (Formulation.reselect_rows)
+        rr, RR, W = snapshot(pr, pR, v, plan[0])
+        quality = _row_quality(plan, rr, RR, W)
+    for _ in range(substeps):
+        res = _ga_substep(plan, r_n, R_n, v_n, vd_n, a_n, lam_n, inputs, refs_n, hs, coef, newton_tolerance, length,
+                          max_iterations, lu, piv, keep)
+        iterations += res[1]
+        if res[0] != 0 and keep:  # a stale matrix from earlier steps: retry with a fresh one
+            retries += 1
+            res = _ga_substep(plan, r_n, R_n, v_n, vd_n, a_n, lam_n, inputs, refs_n, hs, coef, newton_tolerance,
+                              length, max_iterations, lu, piv, False)
+            iterations += res[1]
+        status, keep = res[0], res[2]
+        if status != 0:
+            keep = False
+            break
+        quality, vd_n, lam_n, r_n, R_n, v_n, a_n, refs_n, d1, s1, spring = res[3:]
+        p1 = 0.0
+        for i in pto_springs:
+            p1 += spring[i]
+        c = 0.5 * h / substeps
+        dissipated += c * (diss + d1)
+        work += c * (supply + s1)
+        pto_energy += c * (pto + p1)
+        diss, supply, pto = d1, s1, p1
+        done += 1
+        if redundant and quality < 0.5:
+            break
+    at = macro_layout(v.shape[0], lam.shape[0], nb, refs.shape[0], spring.shape[0], 0, 0)
+    out[at[0]:at[1]] = vd_n
+    out[at[1]:at[2]] = lam_n
+    out[at[2]:at[3]] = r_n.ravel()
+    out[at[3]:at[4]] = R_n.ravel()
+    out[at[4]:at[5]] = v_n
+    out[at[5]:at[6]] = a_n
+    out[at[6]:at[7]] = refs_n
+    out[at[7]], out[at[7] + 1], out[at[7] + 2] = dissipated, work, pto_energy
+    out[at[8]], out[at[8] + 1], out[at[8] + 2] = diss, supply, pto
+    out[at[9]:at[10]] = spring
+    out[at[10]] = quality
+    if at[11] < out.shape[0]:  # room for the outputs
+        flat = _outputs(plan, r_n, R_n, v_n, lam_n, refs_n)
+        k = at[11] + flat.shape[0]
+        out[at[11]:k] = flat
+        # the energy balance T + V + D - W - E0 (E0 = energy[3]) and the PTOs' outputs (MultibodySimulator)
+        out[k] = flat[6 * nb] + flat[6 * nb + 1] + dissipated - work - energy[3]
+        coords = 6 * nb + 3 + 6 * plan[27].shape[0]
+        forces = coords + 2 * plan[16].shape[0]
+        for p in range(pto_springs.shape[0]):
+            i = pto_springs[p]
+            c = plan[19][i]
+            rate, force = flat[coords + 2 * c + 1], flat[forces + i]
+            out[k + 1 + 4 * p] = flat[coords + 2 * c] - plan[21][i, 3]
+            out[k + 2 + 4 * p] = rate
+            out[k + 3 + 4 * p] = force
+            out[k + 4 + 4 * p] = -force * rate
+    return status, done, iterations, retries, keep, stiff

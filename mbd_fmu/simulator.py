@@ -28,7 +28,7 @@ import numpy as np
 from . import kernels
 from .assembly import MobilityReport, analyse, assemble
 from .force_elements import CoordinateSpringDamper
-from .formulations import Settings, make_formulation
+from .formulations import Index3, Settings, make_formulation
 from .kinematics import Pose
 from .model import MultibodyModel
 
@@ -45,6 +45,7 @@ class MultibodySimulator:
         # positions of the PTOs among the model's elements (indices survive the deep copies of FMU states)
         self._pto_index = [i for i, e in enumerate(model.elements) if any(e is p for p in self.ptos)]
         self.formulation = make_formulation(model, settings)
+        self.fused = True  # False: never one compiled call per macro step (comparisons, benchmarks)
         self.report: MobilityReport | None = None
 
     # ------------------------------------------------------------------ start
@@ -67,24 +68,111 @@ class MultibodySimulator:
     # ------------------------------------------------------------------ stepping
     def advance(self, h: float, inputs: np.ndarray | None = None, restart: bool = False) -> None:
         """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held; ``restart``: a force element's
-        input changed (e.g. :class:`LinearisedInputForce`), restart the formulation even if ``inputs`` did not."""
+        input changed (e.g. :class:`LinearisedInputForce`), restart the formulation even if ``inputs`` did not.
+
+        On the compiled index-3 path the whole macro step (restart, substeps, energy account, outputs) is one
+        compiled call (:meth:`_advance_fused`); anything it does not cover takes the step by step path below,
+        which gives the same state within round-off."""
+        n = max(1, math.ceil(h / self.max_step - 1e-9)) if self.max_step > 0 else 1
+        if inputs is not None and not restart and self._advance_fused(h, n, inputs):
+            return
         f = self.formulation
+        if getattr(self, "_commands_changed", False):  # PTO commands changed (set_pto_commands(defer=True))
+            self._commands_changed = False
+            f.on_restart()
         if inputs is not None or restart:
             if not (inputs is not None and f.set_inputs(inputs)) and restart:
                 f.on_restart()
             # The held input's power at the start of the step (the trapezoidal rule below must pair the
             # same input at both ends of each substep: mixing in the previous step's input is an O(h) error).
             self._powers = self.powers()
-        n = max(1, math.ceil(h / self.max_step - 1e-9)) if self.max_step > 0 else 1
         for _ in range(n):
-            f.step(h / n)
-            powers = self.powers()
-            self.dissipated += 0.5 * h / n * (self._powers[0] + powers[0])
-            self.work += 0.5 * h / n * (self._powers[1] + powers[1])
-            self.pto_energy += 0.5 * h / n * (self._powers[2] + powers[2])
-            self._powers = powers
+            self._substep(h, n)
 
-    def set_pto_commands(self, stiffness, damping, force) -> None:
+    def _substep(self, h: float, n: int) -> None:
+        """One of the ``n`` substeps of a macro step ``h``, with the trapezoidal energy sums."""
+        self.formulation.step(h / n)
+        powers = self.powers()
+        self.dissipated += 0.5 * h / n * (self._powers[0] + powers[0])
+        self.work += 0.5 * h / n * (self._powers[1] + powers[1])
+        self.pto_energy += 0.5 * h / n * (self._powers[2] + powers[2])
+        self._powers = powers
+
+    def _advance_fused(self, h: float, n: int, inputs: np.ndarray) -> bool:
+        """The macro step in one compiled call (:func:`mbd_fmu.kernels.ga_macro_step`) on the compiled index-3
+        path; False (nothing changed) where it does not apply: another formulation or the Python path, kept
+        constraint rows due for re-selection, a singular consistent acceleration or a first substep that does not
+        converge (the step by step path then repeats the step with its own fallbacks and error messages)."""
+        f = self.formulation
+        if not isinstance(f, Index3) or not getattr(self, "fused", True):  # (absent from earlier versions' states)
+            return False
+        f.check_model()
+        m = self.model
+        if f.compiled is None or (len(m.kept) != m.m and not (f._quality is not None and f._quality[0] == f.steps
+                                                      and f._quality[1] >= 0.5)):
+            return False
+        inputs = np.array(inputs, dtype=float)
+        mode = f.settings.restart
+        consistent = mode != "none" and (getattr(self, "_commands_changed", False)
+                                         or not np.array_equal(inputs, f.inputs))
+        shift = 1 if f.a is None or (consistent and mode != "increment") else (2 if consistent else 0)
+        status, done, iterations, retries, keep, stiff, out, at = f.fused(
+            h, n, consistent, shift, inputs=inputs, energy=self._energy_sums(), ptos=self._pto_springs(), outputs=True)
+        if done == 0:
+            if status != 0:
+                f._lu_key = None  # the factors may have been overwritten
+            return False
+        self._commands_changed = False
+        f.inputs = inputs
+        f.newton_iterations += iterations
+        f.newton_retries += retries
+        f.stiff_restarts += int(stiff)
+        hs = h / n
+        for _ in range(done):
+            f.t += hs
+        f.steps += done
+        f.take_fused(out, at)
+        f._lu_key = (hs, m.kept) if keep else None
+        self.dissipated, self.work, self.pto_energy = out[at[7]:at[7] + 3].tolist()
+        self._powers = tuple(out[at[8]:at[8] + 3].tolist())
+        if done == n:
+            self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), self._split_outputs(out, at))
+        else:  # stopped early (rows to re-select, a substep that did not converge): the rest step by step
+            self._outputs = None
+            for _ in range(n - done):
+                self._substep(h, n)
+        return True
+
+    def _energy_sums(self) -> np.ndarray:
+        """(dissipated energy, external work, PTO energy, initial mechanical energy): the fused call's ``energy``."""
+        return np.array([getattr(self, key, 0.0) for key in ("dissipated", "work", "pto_energy", "energy0")])
+
+    def _pto_springs(self) -> np.ndarray:
+        """Positions of the PTOs among the compiled springs (the fused call's PTO power)."""
+        cm = self.formulation.compiled
+        cached = getattr(self, "_pto_positions", None)
+        if cached is None or cached[0] is not cm:
+            cached = self._pto_positions = (cm, np.array([cm.spring_position[id(self.model.elements[i])]
+                                                          for i in self._pto_index], dtype=np.int64))
+        return cached[1]
+
+    def _split_outputs(self, flat: np.ndarray, at: np.ndarray | None = None) -> dict:
+        """The named parts (views) of :func:`mbd_fmu.kernels.outputs`' flat array, or (``at``: its offsets) of the
+        fused call's output ``flat``, which then also serves :meth:`output_values`."""
+        values = None
+        if at is not None:
+            values, flat = flat, flat[at[11]:at[12]]
+        nb, nj, nc = self.model.N, len(self.model.joints), len(self.formulation.compiled.coordinates)
+        o = 6 * nb + 3
+        return {"values": values, "layout": at, "displacement": flat[:6 * nb].reshape(nb, 6),
+                "kinetic": flat[6 * nb], "potential": flat[6 * nb + 1], "violation": flat[6 * nb + 2],
+                "reactions": flat[o:o + 6 * nj].reshape(nj, 6),
+                "coordinates": flat[o + 6 * nj:o + 6 * nj + 2 * nc].reshape(nc, 2),
+                "spring_forces": flat[o + 6 * nj + 2 * nc:]}
+
+    def set_pto_commands(self, stiffness, damping, force, defer: bool = False) -> None:
+        """New PTO law parameters (stiffness, damping, force command per PTO); a change restarts the formulation,
+        now or (``defer``) at the start of the next :meth:`advance`, together with a change of its inputs."""
         changed = False
         for p, k, c, u in zip(self.ptos, stiffness, damping, force, strict=True):
             if (p.stiffness, p.damping, p.force_command) != (k, c, u):
@@ -93,7 +181,10 @@ class MultibodySimulator:
         if changed:
             self.formulation.end_powers = None
             self._outputs = None  # the PTO forces of the kept outputs were those of the old commands
-            self.formulation.on_restart()
+            if defer:
+                self._commands_changed = True
+            else:
+                self.formulation.on_restart()
 
     # ------------------------------------------------------------------ outputs
     @property
@@ -116,16 +207,36 @@ class MultibodySimulator:
         cached = getattr(self, "_outputs", None)
         if cached is not None and cached[0] == key:
             return cached[1]
-        plan = cm.plan()  # PTO commands of now
-        flat = kernels.outputs(*plan, f.pose.r, f.pose.R, f.v, f.lam, cm.refs)
-        nb, nj, nc = self.model.N, len(self.model.joints), len(cm.coordinates)
-        o = 6 * nb + 3
-        out = {"displacement": flat[:6 * nb].reshape(nb, 6), "kinetic": flat[6 * nb], "potential": flat[6 * nb + 1],
-               "violation": flat[6 * nb + 2], "reactions": flat[o:o + 6 * nj].reshape(nj, 6),
-               "coordinates": flat[o + 6 * nj:o + 6 * nj + 2 * nc].reshape(nc, 2),
-               "spring_forces": flat[o + 6 * nj + 2 * nc:]}
+        if isinstance(f, Index3):  # its one compiled entry point
+            _, _, _, _, _, _, flat, at = f.fused(0.0, 0, energy=self._energy_sums(), ptos=self._pto_springs(),
+                                                 outputs=True)
+            out = self._split_outputs(flat, at)
+        else:
+            out = self._split_outputs(kernels.outputs(*cm.plan(), f.pose.r, f.pose.R, f.v, f.lam, cm.refs))
         self._outputs = (key, out)
         return out
+
+    def output_values(self) -> np.ndarray | None:
+        """Every output of the current state in one flat array (layout: :meth:`output_layout`): the fused call's
+        output on the compiled index-3 path, None elsewhere."""
+        out = self.compiled_outputs()
+        return None if out is None else out["values"]
+
+    def output_layout(self) -> dict[str, int]:
+        """Offsets in :meth:`output_values` (:func:`mbd_fmu.kernels.macro_layout`): the cg positions (N, 3), the
+        velocities (n,), dissipated energy, external work, PTO energy, the bodies' displacements (N, 6), kinetic and
+        potential energy, constraint violation, joints' reactions (J, 6: force, moment), compiled coordinates'
+        values and rates (S, 2), compiled springs' forces (E,) (:func:`mbd_fmu.kernels.outputs`), the energy
+        balance and the PTOs' (coordinate from neutral, rate, force, absorbed power) (P, 4)."""
+        m, f = self.model, self.formulation
+        cm = f.compiled
+        at = f._offsets(len(self.ptos))
+        nb, nj = m.N, len(m.joints)
+        o = int(at[11])
+        return {"r": int(at[2]), "v": int(at[4]), "energy": int(at[7]), "displacement": o, "kinetic": o + 6 * nb,
+                "potential": o + 6 * nb + 1, "violation": o + 6 * nb + 2, "reactions": o + 6 * nb + 3,
+                "coordinates": o + 6 * nb + 3 + 6 * nj, "balance": int(at[12]), "pto": int(at[12]) + 1,
+                "spring_forces": o + 6 * nb + 3 + 6 * nj + 2 * len(cm.coordinates)}
 
     def displacement(self, d: np.ndarray | None = None) -> np.ndarray:
         """x on the model's coordinates: (n,), from the bodies' displacements ``d`` (N, 6) if already known."""
@@ -152,9 +263,11 @@ class MultibodySimulator:
             end = getattr(f, "end_powers", None)  # (absent from states saved by earlier versions)
             if end is not None and end[0] == f.steps:  # computed by the step that led here
                 diss, supply, springs = end[1:]
+            elif isinstance(f, Index3):  # its one compiled entry point (PTO commands and references of now)
+                _, _, _, _, _, _, out, at = f.fused(0.0, 0)
+                diss, supply, springs = float(out[at[8]]), float(out[at[8] + 1]), out[at[9]:at[10]]
             else:
-                diss, supply, springs = kernels.powers(*cm.plan(refresh=False), f.pose.r, f.pose.R, f.v, f.inputs,
-                                                       cm.refs)
+                diss, supply, springs = kernels.powers(*cm.plan(), f.pose.r, f.pose.R, f.v, f.inputs, cm.refs)
             return diss, supply, sum(float(springs[cm.spring_position[id(m.elements[i])]]) for i in self._pto_index)
         k = self.kin
         powers = [e.powers(k) for e in m.elements]

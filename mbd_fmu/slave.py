@@ -267,6 +267,66 @@ class MultibodySlave(VectorSlave):
     def get_real(self, vrs: list[int]) -> list[float]:
         if not (self.nonlinear and self._ready):
             return super().get_real(vrs)
+        values = self.system.output_values()
+        if values is None:  # the Python path: by groups
+            return self._get_real_grouped(vrs)
+        gathers = self.__dict__.setdefault("_gathers", {})
+        key = tuple(vrs)
+        gather = gathers.get(key)
+        if gather is None:
+            gather = gathers[key] = self._gather(vrs)
+        index, others = gather
+        out = values[index].tolist()
+        if others:  # outputs the flat array does not hold (Python-side element outputs, constants)
+            for k, value in zip(others, self._get_real_grouped([vrs[k] for k in others]), strict=True):
+                out[k] = value
+        return out
+
+    def _gather(self, vrs: list[int]) -> tuple[np.ndarray, list[int]]:
+        """Positions of ``vrs`` in the simulator's flat output array (:meth:`MultibodySimulator.output_values`) and
+        the positions among ``vrs`` of those it does not hold (their place in the index: 0)."""
+        where = self.__dict__.get("_flat_index")
+        if where is None:
+            where = self._flat_index = self._flat_positions()
+        index = np.array([where.get(vr, 0) for vr in vrs], dtype=np.int64)
+        return index, [k for k, vr in enumerate(vrs) if vr not in where]
+
+    def _flat_positions(self) -> dict[int, int]:
+        """Value reference -> position in the flat output array, for every output it holds."""
+        sim = self.system
+        model, cm, at = sim.model, sim.formulation.compiled, sim.output_layout()
+        bodies = [b["name"] for b in self.spec["bodies"]]
+        joints = [j["name"] for j in self.spec.get("joints", [])]
+        slots = self._input_slots
+        coords = [model.coordinates[k] for k in slots]
+        position: dict[str, list[int]] = {
+            "x": [at["displacement"] + 6 * model.index(b) + d for b, d in coords],
+            "v": [at["v"] + int(k) for k in slots],
+            "energy.kinetic": [at["kinetic"]], "energy.potential": [at["potential"]],
+            "energy.dissipated": [at["energy"]], "energy.external_work": [at["energy"] + 1],
+            "energy.pto": [at["energy"] + 2], "energy.balance": [at["balance"]],
+            "mbd.constraint_violation": [at["violation"]]}
+        for i, b in enumerate(bodies):
+            position[f"{b}.pose"] = [at["r"] + 3 * i + k for k in range(3)] + [at["displacement"] + 6 * i + k
+                                                                             for k in range(3, 6)]
+        for k, key in enumerate(("position", "velocity", "force", "power")):
+            position[f"pto.{key}"] = [at["pto"] + 4 * p + k for p in range(len(sim.ptos))]
+        for j, name in enumerate(joints):
+            position[f"{name}.force"] = [at["reactions"] + 6 * j + k for k in range(3)]
+            position[f"{name}.moment"] = [at["reactions"] + 6 * j + k for k in range(3, 6)]
+            if cm.joint_coordinates is not None:
+                position[f"{name}.coordinate"] = [at["coordinates"] + 2 * int(c) for c in cm.joint_coordinates[j]]
+                position[f"{name}.rate"] = [at["coordinates"] + 2 * int(c) + 1 for c in cm.joint_coordinates[j]]
+        key_of = {id(a): k for k, a in self._arrays.items()}
+        out = {}
+        for vr, (array, i) in self._slot.items():
+            places = position.get(key_of[id(array)])
+            if places is not None and self._output_group(key_of[id(array)]) is not None:
+                out[vr] = places[i]
+        return out
+
+    def _get_real_grouped(self, vrs: list[int]) -> list[float]:
+        """The outputs by groups, each computed once per state, only those a host reads."""
         if self._outputs_stale:
             self._fresh: set[str] = set()
             self._outputs_stale = False
@@ -370,7 +430,7 @@ class MultibodySlave(VectorSlave):
         sim = self.system
         if sim.ptos:
             sim.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
-                                 self.array("pto.force_command"))
+                                 self.array("pto.force_command"), defer=not self._coupling)
         inputs = np.zeros(sim.model.n)
         inputs[self._input_slots] = self.array("F")
         restart = False
