@@ -148,13 +148,14 @@ class MultibodySimulator:
         return np.array([getattr(self, key, 0.0) for key in ("dissipated", "work", "pto_energy", "energy0")])
 
     def _pto_springs(self) -> np.ndarray:
-        """Positions of the PTOs among the compiled springs (the fused call's PTO power)."""
-        cm = self.formulation.compiled
-        cached = getattr(self, "_pto_positions", None)
-        if cached is None or cached[0] is not cm:
-            cached = self._pto_positions = (cm, np.array([cm.spring_position[id(self.model.elements[i])]
-                                                          for i in self._pto_index], dtype=np.int64))
-        return cached[1]
+        """Positions of the PTOs among the compiled springs (the fused call's PTO power and outputs; the same for
+        every compiled view of the model: an FMU's input-force element is not a spring)."""
+        positions = getattr(self, "_pto_positions", None)
+        if positions is None:
+            cm = self.formulation.compiled
+            positions = self._pto_positions = np.array([cm.spring_position[id(self.model.elements[i])]
+                                                        for i in self._pto_index], dtype=np.int64)
+        return positions
 
     def _split_outputs(self, flat: np.ndarray, at: np.ndarray | None = None) -> dict:
         """The named parts (views) of :func:`mbd_fmu.kernels.outputs`' flat array, or (``at``: its offsets) of the
