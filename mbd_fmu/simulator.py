@@ -62,6 +62,7 @@ class MultibodySimulator:
         self.dissipated = 0.0
         self.work = 0.0
         self.pto_energy = 0.0
+        self._outputs = None  # computed before energy0 existed: their balance was not the balance
         self._powers = self.powers()
         return moved
 
