@@ -320,13 +320,18 @@ class Index3(Formulation):
                                                   self.inputs, cm.refs, h, delta)
             self.stiff_restarts += int(stiff)
             return a
+        # the method of kernels.taylor_shift: v'' = S0^-1 (b' - S' x0), b' - S' x0 by the central difference of the
+        # residuals of the centre's solution x0 at the poses +-eps along the motion; one factorisation (S0's)
         eps = 1e-5 * h
         m = self.model
+        mass, f, jac, gamma = _saddle_parts(m, self.inputs, self.pose, self.v, self.t)
+        lu = lu_factor(_saddle_point(mass, jac), check_finite=False)
+        x0 = lu_solve(lu, np.concatenate([f, gamma]), check_finite=False)
         fwd = self.pose.retract(m.full(eps * self.v))
         bwd = self.pose.retract(m.full(-eps * self.v))
-        ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
-        am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
-        correction = delta * h * (ap - am) / (2 * eps)
+        rp = _saddle_residual(m, self.inputs, fwd, self.v + eps * self.vdot, self.t + eps, x0)
+        rm = _saddle_residual(m, self.inputs, bwd, self.v - eps * self.vdot, self.t - eps, x0)
+        correction = delta * h * lu_solve(lu, (rp - rm) / (2 * eps), check_finite=False)[: m.n]
         if np.abs(correction).max() > 0.5 * np.abs(self.vdot).max() + 1e-12:
             # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
             self.stiff_restarts += 1
@@ -699,6 +704,22 @@ def _tableau_arrays(tab) -> tuple[np.ndarray, np.ndarray]:
 
 # ``[[S, C^T], [C, 0]]``: the kernels' function, called as plain Python on this path
 _saddle_point = getattr(kernels.saddle, "py_func", kernels.saddle)
+
+
+def _saddle_parts(model: MultibodyModel, inputs: np.ndarray, pose: Pose, v: np.ndarray,
+                  t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """M, f, C (kept rows) and gamma of the saddle-point system ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``."""
+    k = model.kin(pose, v, t)
+    ev = model.constraint(k)
+    return model.mass_matrix(pose, k), model.forces(k, inputs), ev.jac, ev.gamma
+
+
+def _saddle_residual(model: MultibodyModel, inputs: np.ndarray, pose: Pose, v: np.ndarray, t: float,
+                     x: np.ndarray) -> np.ndarray:
+    """``[f - M v' - C^T lambda; gamma - C v']`` at (pose, v, t) for x = (v', lambda) (kernels.saddle_residual)."""
+    mass, f, jac, gamma = _saddle_parts(model, inputs, pose, v, t)
+    n = model.n
+    return np.concatenate([f - mass @ x[:n] - jac.T @ x[n:], gamma - jac @ x[:n]])
 
 
 def _row_quality(rows: np.ndarray) -> float:

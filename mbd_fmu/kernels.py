@@ -830,22 +830,48 @@ def acceleration_packed(ip, fp, pr, pR, v, inputs, refs):
 @njit
 def acceleration(plan, pr, pR, v, inputs, refs):
     """Consistent v' and lambda (kept rows) from the saddle-point system (Formulation.acceleration)."""
-    sel = plan[0]
-    n = sel.shape[0]
-    rr, RR, W = snapshot(pr, pR, v, sel)
+    vd, lam, _, _, _ = acceleration_factored(plan, pr, pR, v, inputs, refs)
+    return vd, lam
+
+
+@njit
+def _saddle_parts(plan, pr, pR, v, inputs, refs):
+    """Mass matrix M, forces f, kept constraint Jacobian C and gamma at (pose, v): the saddle-point system
+    ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``."""
+    rr, RR, W = snapshot(pr, pR, v, plan[0])
     iw = world_inertia(plan, RR)
     mass = mass_matrix(plan, iw)
     f = forces(plan, rr, RR, W, iw, inputs, refs)
-    phi, jac, gam = constraints(plan, rr, RR, W, True, True)
-    r = phi.shape[0]
+    _, jac, gam = constraints(plan, rr, RR, W, True, True)
+    return mass, f, jac, gam
+
+
+@njit
+def acceleration_factored(plan, pr, pR, v, inputs, refs):
+    """:func:`acceleration` and the LU factors of its saddle-point matrix (plan's order): (v', lambda, factors,
+    pivots, ok); v' and lambda NaN when the matrix is singular."""
+    n = plan[0].shape[0]
+    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
+    r = jac.shape[0]
     rhs = np.empty(n + r)
     rhs[:n] = f
     rhs[n:] = gam
     lu, piv, ok = factor(plan, saddle(mass, jac))
     if not ok:
-        return np.full(n, np.nan), np.full(r, np.nan)
+        return np.full(n, np.nan), np.full(r, np.nan), lu, piv, False
     x = solve(plan, lu, piv, rhs)
-    return x[:n].copy(), x[n:].copy()
+    return x[:n].copy(), x[n:].copy(), lu, piv, True
+
+
+@njit
+def saddle_residual(plan, pr, pR, v, inputs, refs, vd, lam):
+    """``[f - M v' - C^T lambda; gamma - C v']`` of the saddle-point system at (pose, v) for given v', lambda."""
+    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
+    n = vd.shape[0]
+    out = np.empty(n + lam.shape[0])
+    out[:n] = f - _matvec(mass, vd) - _tmatvec(jac, lam)
+    out[n:] = gam - _matvec(jac, vd)
+    return out
 
 
 @njit
@@ -1003,16 +1029,37 @@ def ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
 
 @njit
 def start_acceleration(ip, fp, pr, pR, v, vdot, inputs, refs, h, delta):
-    """a = v' + Delta h v'' with v'' by a central difference along the motion (Index3._start_acceleration);
-    returns (a, stiff) with ``stiff`` when the shift is meaningless and a = v' was used."""
+    """a = v' + Delta h v'' with v'' = d/dt of the consistent acceleration along the motion
+    (Index3._start_acceleration); returns (a, stiff) with ``stiff`` when the shift is meaningless and a = v' was
+    used. One factorisation (the centre's): :func:`taylor_shift`."""
     plan = unpack(ip, fp)
+    vd0, lam0, lu, piv, ok = acceleration_factored(plan, pr, pR, v, inputs, refs)
+    if not ok:
+        return vdot.copy(), True
+    return taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, delta)
+
+
+@njit
+def taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, delta):
+    """Generalised-alpha's starting value a = v' + Delta h v'' (Arnold & Bruls 2007) from the centre's consistent
+    solution x0 = (v'0, lambda0) of ``S(q, v) x = b(q, v)`` and the LU factors of S0 (:func:`acceleration_factored`).
+
+    Method: x(s) along the motion (q retracted by s v, v + s v') has x' = S0^-1 (b' - S' x0); b' - S' x0 is the
+    central difference of the residuals r(+-eps) = b(+-eps) - S(+-eps) x0 (eps = 1e-5 h), so v'' costs two model
+    evaluations and one solve with the centre's factors, no new factorisation. It equals the central difference
+    of the two shifted solutions, each corrected once from x0 (x+- = x0 + S0^-1 r(+-eps), exact to O(eps^2) with
+    the same eps^2 term on both sides), hence truncation error O(eps^2) (second order in eps) plus round-off
+    O(u |x| / eps) with u the machine precision; the shift's error Delta h * that is far below the step's
+    own O(h^3) error. Returns (a, stiff): when |Delta h v''| > 0.5 |v'| (stiff components, h |lambda| >> 1) the
+    Taylor shift is meaningless and a = v' is returned with ``stiff`` True."""
     eps = 1e-5 * h
     sel = plan[0]
+    n = sel.shape[0]
     fr, fR = retract(pr, pR, eps * v, sel)
     br, bR = retract(pr, pR, -eps * v, sel)
-    ap = acceleration(plan, fr, fR, v + eps * vdot, inputs, refs)[0]
-    am = acceleration(plan, br, bR, v - eps * vdot, inputs, refs)[0]
-    correction = delta * h * (ap - am) / (2 * eps)
+    rp = saddle_residual(plan, fr, fR, v + eps * vdot, inputs, refs, vd0, lam0)
+    rm = saddle_residual(plan, br, bR, v - eps * vdot, inputs, refs, vd0, lam0)
+    correction = delta * h * solve(plan, lu, piv, (rp - rm) / (2 * eps))[:n]
     if np.abs(correction).max() > 0.5 * np.abs(vdot).max() + 1e-12:
         return vdot.copy(), True
     return vdot + correction, False
