@@ -305,18 +305,9 @@ def lu_solve(a, piv, kl, ku, b):
 
 
 @njit
-def factor(plan, mat):
-    """LU factors of a saddle-point matrix in the plan's band-reducing order: (factors, pivots, ok)."""
-    nn = mat.shape[0]
-    lu = np.empty((nn, nn))
-    piv = np.zeros(nn, dtype=np.int64)
-    ok = factor_into(plan, mat, lu, piv)
-    return lu, piv, ok
-
-
-@njit
 def factor_into(plan, mat, lu, piv):
-    """:func:`factor` into given arrays (n + r, n + r) and (n + r,); False if singular. Only the band (and its
+    """LU factors of the iteration matrix ``mat`` in the plan's band-reducing order into given arrays (n + r,
+    n + r) and (n + r,); False if singular. Only the band (and its
     fill-in) of ``lu`` is written and read."""
     order, band = plan[24], plan[25]
     nn = mat.shape[0]
@@ -330,7 +321,7 @@ def factor_into(plan, mat, lu, piv):
 
 @njit
 def solve(plan, lu, piv, b):
-    """Solution with the factors of :func:`factor` (the iteration matrix's band)."""
+    """Solution with the factors of :func:`factor_into` (the iteration matrix's band)."""
     return _solve_ordered(plan[24], lu, piv, plan[25][0], plan[25][1], b)
 
 
