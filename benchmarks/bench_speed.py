@@ -17,7 +17,7 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    (the co-simulation case: a new input every step, so the formulation restarts every step); microseconds
    per step of each formulation (index-3, index-1 and null-space, RK4 for the latter two), and of index-3
    with the increment restart (``Settings(restart="increment")``: one consistent-acceleration solve per
-   restart instead of three).
+   restart instead of the default's two, whose second also evaluates the model at two shifted poses).
 3. The hinge barge (scenarios/hinge_barge.toml, default settings: index-3, 0.02 s macro step,
    0.01 s multibody step, both FMUs through fmpy): real-time factor of the stepping loop and the steady
    heave and pitch errors against the exact frequency-domain answer, compiled and Python paths, and
@@ -378,7 +378,7 @@ def section_2(lines: list[str], repeats: int, quick: bool) -> None:
     lines += ["", "## 2. N floating bodies (row of hinged cubes on moorings), h = 0.01 s, new input every step; "
               "us per step, wall and CPU (index-3 and index-1 compiled; null-space: Python stepping, compiled solves); "
               "'incr': index-3 with restart = 'increment' (one consistent-acceleration solve per restart instead of "
-              "three, order 2 kept: tests/test_multibody_mechanisms.py; results differ from the default restart "
+              "two, order 2 kept: tests/test_multibody_mechanisms.py; results differ from the default restart "
               "within the method's error, column 'diff': largest cg position difference after the run, m)",
               f"{'N':>4}{'coords':>8}{'index3':>10}{'cpu':>8}{'incr':>8}{'cpu':>8}{'diff':>9}{'index1':>10}{'cpu':>8}"
               f"{'nullspace':>10}{'cpu':>8}"]

@@ -30,10 +30,12 @@ Restart at macro-step boundaries (:meth:`Formulation.set_inputs`): a new held in
 acceleration jump. The explicit one-step methods need nothing. Generalised-alpha carries the
 algorithmic acceleration ``a``, which approximates ``v'(t + Delta h)`` (``Delta = alpha_m -
 alpha_f``); on a jump it is reset from the new consistent acceleration and its derivative,
-``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` by a central difference
-of the consistent acceleration along the motion. This keeps second order when the input
+``a = v' + Delta h v''`` (Arnold & Bruls 2007's starting value), ``v''`` the derivative of the
+consistent acceleration along the motion, ``S0^-1 (b' - S' x0)`` with ``b' - S' x0`` by a central
+difference of the saddle-point residuals of the centre's solution ``x0`` (one factorisation, three model
+evaluations: :func:`mbd_fmu.kernels.taylor_shift`). This keeps second order when the input
 changes every step (``restart="consistent"``). ``"increment"`` adds the jump of the consistent
-acceleration to ``a`` (``a += v'_new - v'_old``: one consistent-acceleration solve instead of three); its
+acceleration to ``a`` (``a += v'_new - v'_old``: one consistent-acceleration solve instead of two); its
 error in ``a`` is ``Delta h`` times the jump of ``v''``, O(h) times the input's change, so it keeps second
 order for inputs that change by O(h) per step (the master's extrapolated forces) and loses nothing at an
 isolated jump. ``"acceleration"`` (``a = v'``) and ``"none"``
@@ -326,13 +328,18 @@ class Index3(Formulation):
             _, _, _, _, _, stiff, out, at = self.fused(h, 0, shift=1)
             self.stiff_restarts += int(stiff)
             return out[at[5]:at[6]]
+        # the method of kernels.taylor_shift: v'' = S0^-1 (b' - S' x0), b' - S' x0 by the central difference of the
+        # residuals of the centre's solution x0 at the poses +-eps along the motion; one factorisation (S0's)
         eps = 1e-5 * h
         m = self.model
+        mass, f, jac, gamma = _saddle_parts(m, self.inputs, self.pose, self.v, self.t)
+        lu = lu_factor(_saddle_point(mass, jac), check_finite=False)
+        x0 = lu_solve(lu, np.concatenate([f, gamma]), check_finite=False)
         fwd = self.pose.retract(m.full(eps * self.v))
         bwd = self.pose.retract(m.full(-eps * self.v))
-        ap, _ = self.acceleration(fwd, self.v + eps * self.vdot, self.t + eps)
-        am, _ = self.acceleration(bwd, self.v - eps * self.vdot, self.t - eps)
-        correction = delta * h * (ap - am) / (2 * eps)
+        rp = _saddle_residual(m, self.inputs, fwd, self.v + eps * self.vdot, self.t + eps, x0)
+        rm = _saddle_residual(m, self.inputs, bwd, self.v - eps * self.vdot, self.t - eps, x0)
+        correction = delta * h * lu_solve(lu, (rp - rm) / (2 * eps), check_finite=False)[: m.n]
         if np.abs(correction).max() > 0.5 * np.abs(self.vdot).max() + 1e-12:
             # stiff components (h |lambda| >> 1): the Taylor shift is meaningless there; a = v'
             self.stiff_restarts += 1
@@ -577,22 +584,26 @@ class Index1(Formulation):
         self._finish(h)
 
     def project(self, pose: Pose, v: np.ndarray, t: float) -> tuple[Pose, np.ndarray]:
-        """Nearest consistent position (mass metric, Newton) and velocity."""
+        """Nearest consistent position and velocity in the mass metric (the compiled path's
+        :func:`~mbd_fmu.kernels.project_positions` and :func:`~mbd_fmu.kernels.consistent_state`): simplified
+        Newton on Phi = 0 with the mass matrix and Jacobian of the first iterate (the step's drift is tiny: one
+        iteration is usual), then v -= M^-1 C^T (C M^-1 C^T)^-1 (C v - rhs_v) with M and C at the projected pose."""
         m = self.model
-        w = m.mass_matrix(pose)
         tol = 1e-3 * self.settings.newton_tolerance * self.length
+        solver = None
         for _ in range(self.settings.max_iterations):
             ev = m.constraint(m.kin(pose, v, t), gamma=False)
             if ev.phi.size == 0 or np.abs(ev.phi).max() <= tol:
                 break
-            c = ev.jac
-            winv_ct = np.linalg.solve(w, c.T)
-            pose = pose.retract(m.full(-winv_ct @ np.linalg.solve(c @ winv_ct, ev.phi)))
+            if solver is None:
+                winv_ct = np.linalg.solve(m.mass_matrix(pose), ev.jac.T)
+                solver = winv_ct, lu_factor(ev.jac @ winv_ct, check_finite=False)
+            pose = pose.retract(m.full(-solver[0] @ lu_solve(solver[1], ev.phi, check_finite=False)))
         else:
             raise ConvergenceError(f"position projection did not converge at t = {t:g} s")
         if ev.phi.size:
             c = ev.jac
-            winv_ct = np.linalg.solve(w, c.T)
+            winv_ct = np.linalg.solve(m.mass_matrix(pose), c.T)
             v = v - winv_ct @ np.linalg.solve(c @ winv_ct, c @ v - ev.rhs_v)
         return pose, v
 
@@ -763,6 +774,22 @@ def _tableau_arrays(tab) -> tuple[np.ndarray, np.ndarray]:
 
 # ``[[S, C^T], [C, 0]]``: the kernels' function, called as plain Python on this path
 _saddle_point = getattr(kernels.saddle, "py_func", kernels.saddle)
+
+
+def _saddle_parts(model: MultibodyModel, inputs: np.ndarray, pose: Pose, v: np.ndarray,
+                  t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """M, f, C (kept rows) and gamma of the saddle-point system ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``."""
+    k = model.kin(pose, v, t)
+    ev = model.constraint(k)
+    return model.mass_matrix(pose, k), model.forces(k, inputs), ev.jac, ev.gamma
+
+
+def _saddle_residual(model: MultibodyModel, inputs: np.ndarray, pose: Pose, v: np.ndarray, t: float,
+                     x: np.ndarray) -> np.ndarray:
+    """``[f - M v' - C^T lambda; gamma - C v']`` at (pose, v, t) for x = (v', lambda) (kernels.saddle_residual)."""
+    mass, f, jac, gamma = _saddle_parts(model, inputs, pose, v, t)
+    n = model.n
+    return np.concatenate([f - mass @ x[:n] - jac.T @ x[n:], gamma - jac @ x[:n]])
 
 
 def _row_quality(rows: np.ndarray) -> float:

@@ -25,7 +25,9 @@ Plan layout (index: content):
  21 spring_par (E, 9) (k, c, u, neutral, friction, quadratic, force limit, velocity scale, law: 0 spring-damper/PTO,
  1 rope (k, c, length in the neutral's place), 2 Coulomb friction (F_c in the friction's place, v_reg));
  22 m (all rows), 23 n_kept rows; 24 order (n + r,) int of the saddle-point unknowns (reverse Cuthill-McKee of the
- structure); 25 band (2,) int (lower, upper bandwidth in that order; n + r - 1 each for a dense matrix);
+ structure); 25 band (4,) int (lower, upper bandwidth in that order of the iteration matrix, then of the
+consistent-acceleration matrix ``[[M, C^T], [C, 0]]``, narrower: no tangents couple bodies; n + r - 1 each for a
+dense matrix);
  26 prim_joint (P,) int (joint of each primitive, -1 for DOF locks); 27 joint_body2 (J,) int; 28 joint_offset (J, 3)
  (body 2's joint point from its cg, body axes); 29 static (N+1, 6) (static loads); 30 energy (4 N + 3,) (masses,
  gravity vector, equilibrium cgs).
@@ -303,34 +305,60 @@ def lu_solve(a, piv, kl, ku, b):
 
 
 @njit
-def factor(plan, mat):
-    """LU factors of a saddle-point matrix in the plan's band-reducing order: (factors, pivots, ok)."""
-    nn = mat.shape[0]
-    lu = np.empty((nn, nn))
-    piv = np.zeros(nn, dtype=np.int64)
-    ok = factor_into(plan, mat, lu, piv)
-    return lu, piv, ok
-
-
-@njit
 def factor_into(plan, mat, lu, piv):
-    """:func:`factor` into given arrays (n + r, n + r) and (n + r,); False if singular."""
+    """LU factors of the iteration matrix ``mat`` in the plan's band-reducing order into given arrays (n + r,
+    n + r) and (n + r,); False if singular. Only the band (and its
+    fill-in) of ``lu`` is written and read."""
     order, band = plan[24], plan[25]
     nn = mat.shape[0]
+    kl, ku = band[0], band[1]
     for i in range(nn):
         oi = order[i]
-        for j in range(nn):
+        for j in range(max(0, i - kl), min(nn, i + kl + ku + 1)):
             lu[i, j] = mat[oi, order[j]]
-    return lu_factor(lu, piv, band[0], band[1])
+    return lu_factor(lu, piv, kl, ku)
 
 
 @njit
 def solve(plan, lu, piv, b):
-    order, band = plan[24], plan[25]
-    x = lu_solve(lu, piv, band[0], band[1], b[order])
+    """Solution with the factors of :func:`factor_into` (the iteration matrix's band)."""
+    return _solve_ordered(plan[24], lu, piv, plan[25][0], plan[25][1], b)
+
+
+@njit
+def _solve_ordered(order, lu, piv, kl, ku, b):
+    x = lu_solve(lu, piv, kl, ku, b[order])
     out = np.empty_like(x)
     out[order] = x
     return out
+
+
+@njit
+def factor_saddle(plan, s, c):
+    """LU factors of ``[[s, c^T], [c, 0]]`` (s: M or any matrix of M's structure) in the plan's order with the
+    consistent-acceleration matrix's band, gathered from ``s`` and ``c`` (the saddle-point matrix is never
+    formed): (factors, pivots, ok). Banded LU with partial pivoting, O((n + r) kl (kl + ku))."""
+    order, band = plan[24], plan[25]
+    n = s.shape[0]
+    nn = n + c.shape[0]
+    kl, ku = band[2], band[3]
+    lu = np.empty((nn, nn))
+    piv = np.zeros(nn, dtype=np.int64)
+    for i in range(nn):
+        oi = order[i]
+        for j in range(max(0, i - kl), min(nn, i + kl + ku + 1)):
+            oj = order[j]
+            if oi < n:
+                lu[i, j] = s[oi, oj] if oj < n else c[oj - n, oi]
+            else:
+                lu[i, j] = c[oi - n, oj] if oj < n else 0.0
+    return lu, piv, lu_factor(lu, piv, kl, ku)
+
+
+@njit
+def solve_saddle(plan, lu, piv, b):
+    """Solution with the factors of :func:`factor_saddle`."""
+    return _solve_ordered(plan[24], lu, piv, plan[25][2], plan[25][3], b)
 
 
 # ---------------------------------------------------------------------------------------------- model pieces
@@ -671,9 +699,33 @@ def _put(jac, row, colmap, slot, value):
 
 
 @njit
-def _point_perp(rr, RR, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac):
-    """Value and Jacobian rows of a point (kind 0) or perp (kind 1) primitive in scalar arithmetic (the same
-    expressions as :func:`constraints`' general branch)."""
+def _cross3(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@njit
+def _point_perp_gamma(W, bi, bj, kind, a0, a1, a2, b0, b1, b2):
+    """gamma of a point primitive's three rows (w_j x (w_j x a_j) - w_i x (w_i x a_i), kind 0) or of a perp row
+    (-((w_i x u) x w + u x (w_j x w)) . (w_i - w_j), u = a, w = b, kind 1) in scalars (:func:`constraints`' general
+    branch's expressions)."""
+    i0, i1, i2 = W[bi, 3], W[bi, 4], W[bi, 5]
+    j0, j1, j2 = W[bj, 3], W[bj, 4], W[bj, 5]
+    if kind == 0:
+        si, sj = i0 * a0 + i1 * a1 + i2 * a2, j0 * b0 + j1 * b1 + j2 * b2
+        ni, nj = i0 * i0 + i1 * i1 + i2 * i2, j0 * j0 + j1 * j1 + j2 * j2
+        return ((j0 * sj - b0 * nj) - (i0 * si - a0 * ni), (j1 * sj - b1 * nj) - (i1 * si - a1 * ni),
+                (j2 * sj - b2 * nj) - (i2 * si - a2 * ni))
+    p0, p1, p2 = _cross3(i0, i1, i2, a0, a1, a2)
+    q0, q1, q2 = _cross3(p0, p1, p2, b0, b1, b2)
+    r0, r1, r2 = _cross3(j0, j1, j2, b0, b1, b2)
+    s0, s1, s2 = _cross3(a0, a1, a2, r0, r1, r2)
+    return -((q0 + s0) * (i0 - j0) + (q1 + s1) * (i1 - j1) + (q2 + s2) * (i2 - j2)), 0.0, 0.0
+
+
+@njit
+def _point_perp(rr, RR, W, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac, gam, want_gamma):
+    """Value, Jacobian rows and (``want_gamma``) gamma of a point (kind 0) or perp (kind 1) primitive in scalar
+    arithmetic, no temporary arrays (the same expressions as :func:`constraints`' general branch)."""
     ri, rj = RR[bi], RR[bj]
     a0 = ri[0, 0] * vec[0, 0] + ri[0, 1] * vec[0, 1] + ri[0, 2] * vec[0, 2]
     a1 = ri[1, 0] * vec[0, 0] + ri[1, 1] * vec[0, 1] + ri[1, 2] * vec[0, 2]
@@ -687,6 +739,8 @@ def _point_perp(rr, RR, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac)
         if row < 0:
             return
         phi[row] = a0 * b0 + a1 * b1 + a2 * b2 - c0
+        if want_gamma:
+            gam[row] = _point_perp_gamma(W, bi, bj, 1, a0, a1, a2, b0, b1, b2)[0]
         if want_jac:
             x0, x1, x2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
             _put(jac, row, colmap, si + 3, x0)
@@ -698,11 +752,14 @@ def _point_perp(rr, RR, bi, bj, vec, c0, kind, kept, colmap, phi, jac, want_jac)
         return
     a = (a0, a1, a2)
     b = (b0, b1, b2)
+    g = _point_perp_gamma(W, bi, bj, 0, a0, a1, a2, b0, b1, b2) if want_gamma else (0.0, 0.0, 0.0)
     for c in range(3):
         row = kept[c]
         if row < 0:
             continue
         phi[row] = rr[bi, c] + a[c] - rr[bj, c] - b[c]
+        if want_gamma:
+            gam[row] = g[c]
         if not want_jac:
             continue
         _put(jac, row, colmap, si + c, 1.0)
@@ -740,9 +797,9 @@ def constraints(plan, rr, RR, W, want_jac, want_gamma):
         kind = kinds[p]
         if kept[p, 0] < 0 and kept[p, 1] < 0 and kept[p, 2] < 0:
             continue
-        if kind <= 1 and not want_gamma:  # the Newton residual's case: scalars only, no temporary arrays
-            _point_perp(rr, RR, bodies[p, 0], bodies[p, 1], vecs[p], c0[p], kind, kept[p], colmap, phi, jac,
-                        want_jac)
+        if kind <= 1:  # scalars only, no temporary arrays (the general branch below has the same expressions)
+            _point_perp(rr, RR, W, bodies[p, 0], bodies[p, 1], vecs[p], c0[p], kind, kept[p], colmap, phi, jac,
+                        want_jac, gam, want_gamma)
             continue
         bi, bj = bodies[p, 0], bodies[p, 1]
         val = np.zeros(3)
@@ -830,22 +887,48 @@ def acceleration_packed(ip, fp, pr, pR, v, inputs, refs):
 @njit
 def acceleration(plan, pr, pR, v, inputs, refs):
     """Consistent v' and lambda (kept rows) from the saddle-point system (Formulation.acceleration)."""
-    sel = plan[0]
-    n = sel.shape[0]
-    rr, RR, W = snapshot(pr, pR, v, sel)
+    vd, lam, _, _, _ = acceleration_factored(plan, pr, pR, v, inputs, refs)
+    return vd, lam
+
+
+@njit
+def _saddle_parts(plan, pr, pR, v, inputs, refs):
+    """Mass matrix M, forces f, kept constraint Jacobian C and gamma at (pose, v): the saddle-point system
+    ``[[M, C^T], [C, 0]] [v'; lambda] = [f; gamma]``."""
+    rr, RR, W = snapshot(pr, pR, v, plan[0])
     iw = world_inertia(plan, RR)
     mass = mass_matrix(plan, iw)
     f = forces(plan, rr, RR, W, iw, inputs, refs)
-    phi, jac, gam = constraints(plan, rr, RR, W, True, True)
-    r = phi.shape[0]
+    _, jac, gam = constraints(plan, rr, RR, W, True, True)
+    return mass, f, jac, gam
+
+
+@njit
+def acceleration_factored(plan, pr, pR, v, inputs, refs):
+    """:func:`acceleration` and the LU factors of its saddle-point matrix (plan's order): (v', lambda, factors,
+    pivots, ok); v' and lambda NaN when the matrix is singular."""
+    n = plan[0].shape[0]
+    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
+    r = jac.shape[0]
     rhs = np.empty(n + r)
     rhs[:n] = f
     rhs[n:] = gam
-    lu, piv, ok = factor(plan, saddle(mass, jac))
+    lu, piv, ok = factor_saddle(plan, mass, jac)
     if not ok:
-        return np.full(n, np.nan), np.full(r, np.nan)
-    x = solve(plan, lu, piv, rhs)
-    return x[:n].copy(), x[n:].copy()
+        return np.full(n, np.nan), np.full(r, np.nan), lu, piv, False
+    x = solve_saddle(plan, lu, piv, rhs)
+    return x[:n].copy(), x[n:].copy(), lu, piv, True
+
+
+@njit
+def saddle_residual(plan, pr, pR, v, inputs, refs, vd, lam):
+    """``[f - M v' - C^T lambda; gamma - C v']`` of the saddle-point system at (pose, v) for given v', lambda."""
+    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
+    n = vd.shape[0]
+    out = np.empty(n + lam.shape[0])
+    out[:n] = f - _matvec(mass, vd) - _tmatvec(jac, lam)
+    out[n:] = gam - _matvec(jac, vd)
+    return out
 
 
 @njit
@@ -999,16 +1082,37 @@ def ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
 
 @njit
 def start_acceleration(ip, fp, pr, pR, v, vdot, inputs, refs, h, delta):
-    """a = v' + Delta h v'' with v'' by a central difference along the motion (Index3._start_acceleration);
-    returns (a, stiff) with ``stiff`` when the shift is meaningless and a = v' was used."""
+    """a = v' + Delta h v'' with v'' = d/dt of the consistent acceleration along the motion
+    (Index3._start_acceleration); returns (a, stiff) with ``stiff`` when the shift is meaningless and a = v' was
+    used. One factorisation (the centre's): :func:`taylor_shift`."""
     plan = unpack(ip, fp)
+    vd0, lam0, lu, piv, ok = acceleration_factored(plan, pr, pR, v, inputs, refs)
+    if not ok:
+        return vdot.copy(), True
+    return taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, delta)
+
+
+@njit
+def taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, delta):
+    """Generalised-alpha's starting value a = v' + Delta h v'' (Arnold & Bruls 2007) from the centre's consistent
+    solution x0 = (v'0, lambda0) of ``S(q, v) x = b(q, v)`` and the LU factors of S0 (:func:`acceleration_factored`).
+
+    Method: x(s) along the motion (q retracted by s v, v + s v') has x' = S0^-1 (b' - S' x0); b' - S' x0 is the
+    central difference of the residuals r(+-eps) = b(+-eps) - S(+-eps) x0 (eps = 1e-5 h), so v'' costs two model
+    evaluations and one solve with the centre's factors, no new factorisation. It equals the central difference
+    of the two shifted solutions, each corrected once from x0 (x+- = x0 + S0^-1 r(+-eps), exact to O(eps^2) with
+    the same eps^2 term on both sides), hence truncation error O(eps^2) (second order in eps) plus round-off
+    O(u |x| / eps) with u the machine precision; the shift's error Delta h * that is far below the step's
+    own O(h^3) error. Returns (a, stiff): when |Delta h v''| > 0.5 |v'| (stiff components, h |lambda| >> 1) the
+    Taylor shift is meaningless and a = v' is returned with ``stiff`` True."""
     eps = 1e-5 * h
     sel = plan[0]
+    n = sel.shape[0]
     fr, fR = retract(pr, pR, eps * v, sel)
     br, bR = retract(pr, pR, -eps * v, sel)
-    ap = acceleration(plan, fr, fR, v + eps * vdot, inputs, refs)[0]
-    am = acceleration(plan, br, bR, v - eps * vdot, inputs, refs)[0]
-    correction = delta * h * (ap - am) / (2 * eps)
+    rp = saddle_residual(plan, fr, fR, v + eps * vdot, inputs, refs, vd0, lam0)
+    rm = saddle_residual(plan, br, bR, v - eps * vdot, inputs, refs, vd0, lam0)
+    correction = delta * h * solve_saddle(plan, lu, piv, (rp - rm) / (2 * eps))[:n]
     if np.abs(correction).max() > 0.5 * np.abs(vdot).max() + 1e-12:
         return vdot.copy(), True
     return vdot + correction, False
@@ -1086,42 +1190,80 @@ def _local_rate(theta, wf):
 
 
 @njit
-def project(plan, pr, pR, v, tol, max_iterations):
-    """Nearest consistent position (mass metric, Newton) and velocity (Index1.project); ok flag."""
+def project_positions(plan, pr, pR, tol, max_iterations):
+    """Nearest consistent position in the mass metric (Index1.project): simplified Newton on Phi(q) = 0,
+    q += W^-1 C0^T mu with ``[[W, C0^T], [C0, 0]]`` of the first iterate factorised once (W = M there). The
+    step's drift is tiny, so the contraction rate O(|correction|) makes one iteration usual; the converged pose
+    satisfies Phi = 0 to ``tol`` whatever the matrix. (ok, r, R); no factorisation when already consistent."""
+    sel = plan[0]
+    n = sel.shape[0]
+    zero = np.zeros(n)
+    lu = np.empty((0, 0))
+    piv = np.zeros(0, dtype=np.int64)
+    for _ in range(max_iterations):
+        rr, RR, W = snapshot(pr, pR, zero, sel)
+        phi, jac, _ = constraints(plan, rr, RR, W, lu.shape[0] == 0, False)
+        r = phi.shape[0]
+        if r == 0 or np.abs(phi).max() <= tol:
+            return True, pr, pR
+        if lu.shape[0] == 0:
+            lu, piv, ok = factor_saddle(plan, mass_matrix(plan, world_inertia(plan, RR)), jac)
+            if not ok:
+                return False, pr, pR
+        rhs = np.zeros(n + r)
+        rhs[n:] = -phi
+        pr, pR = retract(pr, pR, solve_saddle(plan, lu, piv, rhs)[:n], sel)
+    return False, pr, pR
+
+
+@njit
+def consistent_state(plan, pr, pR, v, inputs, refs):
+    """At a consistent pose: the velocity projected onto C v = 0 in the mass metric (v += M^-1 C^T mu) and the
+    consistent acceleration and multipliers there, both from one factorisation of ``[[M, C^T], [C, 0]]``
+    (the same matrix). (v, v', lambda, ok)."""
     sel = plan[0]
     n = sel.shape[0]
     rr, RR, W = snapshot(pr, pR, v, sel)
-    w = mass_matrix(plan, world_inertia(plan, RR))
-    converged = False
-    r = 0
-    jac = np.zeros((0, n))
-    for _ in range(max_iterations):
-        rr, RR, W = snapshot(pr, pR, v, sel)
-        phi, jac, _ = constraints(plan, rr, RR, W, True, False)
-        r = phi.shape[0]
-        if r == 0 or np.abs(phi).max() <= tol:
-            converged = True
-            break
-        lu, piv, ok = factor(plan, saddle(w, jac))
-        if not ok:
-            return pr, pR, v, False
-        rhs = np.zeros(n + r)
-        rhs[n:] = -phi
-        pr, pR = retract(pr, pR, solve(plan, lu, piv, rhs)[:n], sel)
-    if not converged:
-        return pr, pR, v, False
+    mass = mass_matrix(plan, world_inertia(plan, RR))
+    jac = constraints(plan, rr, RR, W, True, False)[1]
+    r = jac.shape[0]
+    lu, piv, ok = factor_saddle(plan, mass, jac)
+    if not ok:
+        return v, np.full(n, np.nan), np.full(r, np.nan), False
     if r:
-        lu, piv, ok = factor(plan, saddle(w, jac))
         rhs = np.zeros(n + r)
         rhs[n:] = -_matvec(jac, v)
-        v = v + solve(plan, lu, piv, rhs)[:n]
-    return pr, pR, v, True
+        v = v + solve_saddle(plan, lu, piv, rhs)[:n]
+    rr, RR, W = snapshot(pr, pR, v, sel)
+    iw = world_inertia(plan, RR)
+    rhs = np.empty(n + r)
+    rhs[:n] = forces(plan, rr, RR, W, iw, inputs, refs)
+    rhs[n:] = constraints(plan, rr, RR, W, False, True)[2]
+    x = solve_saddle(plan, lu, piv, rhs)
+    return v, x[:n].copy(), x[n:].copy(), True
+
+
+@njit
+def rkmk_sums(kq, ky, y0, coef, count, h):
+    """An RKMK stage's (``coef`` = a row of the Butcher matrix, ``count`` = the stage's index) or the step's
+    (``coef`` = b, ``count`` = stages) increments: theta = h sum_l coef_l kq_l (the Lie algebra's, all bodies' 6
+    slots) and y = y0 + h sum_l coef_l ky_l (the integrated velocities), over l < count, zero weights skipped."""
+    theta = np.zeros(kq.shape[1])
+    y = y0.copy()
+    for l in range(count):
+        if coef[l] != 0.0:
+            theta += h * coef[l] * kq[l]
+            y += h * coef[l] * ky[l]
+    return theta, y
 
 
 @njit
 def rkmk_index1(ip, fp, pr, pR, v, vdot, inputs, refs, h, ta, tb, tol, max_iterations):
     """One explicit RKMK step of the index-1 DAE, projection and the new consistent acceleration
-    (Index1.step): (ok, r, R, v, v', lambda, angle references)."""
+    (Index1.step): (ok, r, R, v, v', lambda, angle references). Factorisations of the banded saddle-point
+    matrix: one per stage after the first (the stage's consistent acceleration), one for the position projection
+    when the step drifted (:func:`project_positions`), one shared by the velocity projection and the new
+    acceleration (:func:`consistent_state`)."""
     plan = unpack(ip, fp)
     sel = plan[0]
     n = sel.shape[0]
@@ -1130,12 +1272,7 @@ def rkmk_index1(ip, fp, pr, pR, v, vdot, inputs, refs, h, ta, tb, tol, max_itera
     kq = np.zeros((s, nf))
     ky = np.zeros((s, n))
     for j in range(s):
-        theta = np.zeros(nf)
-        yj = v.copy()
-        for l in range(j):
-            if ta[j, l] != 0.0:
-                theta += h * ta[j, l] * kq[l]
-                yj += h * ta[j, l] * ky[l]
+        theta, yj = rkmk_sums(kq, ky, v, ta[j], j, h)
         if j == 0:
             yd = vdot
         else:
@@ -1146,14 +1283,12 @@ def rkmk_index1(ip, fp, pr, pR, v, vdot, inputs, refs, h, ta, tb, tol, max_itera
             wf[sel[i]] = yj[i]
         kq[j] = _local_rate(theta, wf)
         ky[j] = yd
-    theta = np.zeros(nf)
-    y = v.copy()
-    for l in range(s):
-        theta += h * tb[l] * kq[l]
-        y += h * tb[l] * ky[l]
+    theta, y = rkmk_sums(kq, ky, v, tb, s, h)
     r1, R1 = retract_full(pr, pR, theta)
-    r1, R1, v1, ok = project(plan, r1, R1, y, tol, max_iterations)
-    vd1, lam1 = acceleration(plan, r1, R1, v1, inputs, refs)
+    ok, r1, R1 = project_positions(plan, r1, R1, tol, max_iterations)
+    if not ok:
+        return False, r1, R1, y, np.full(n, np.nan), np.full(plan[23], np.nan), refs.copy()
+    v1, vd1, lam1, _ = consistent_state(plan, r1, R1, y, inputs, refs)
     rr, RR, W = snapshot(r1, R1, v1, sel)
     return ok, r1, R1, v1, vd1, lam1, angle_references(plan, rr, RR, W, refs)
 
@@ -1315,9 +1450,10 @@ def ga_macro_step(ip, fp, pr, pR, v, vdot, a, lam, inputs, refs, h, substeps, co
     nb = pr.shape[0]
     vd_n, lam_n, a_n = vdot, lam, a
     stiff = False
+    lu0, piv0 = np.empty((0, 0)), np.zeros(0, dtype=np.int64)  # the consistent acceleration's factors
     if consistent:
-        vd_n, lam_n = acceleration(plan, pr, pR, v, inputs, refs)
-        if not np.all(np.isfinite(vd_n)):
+        vd_n, lam_n, lu0, piv0, ok = acceleration_factored(plan, pr, pR, v, inputs, refs)
+        if not (ok and np.all(np.isfinite(vd_n))):
             return 3, 0, 0, 0, False, False
         if shift == 2:
             a_n = a + (vd_n - vdot)
@@ -1325,6 +1461,8 @@ def ga_macro_step(ip, fp, pr, pR, v, vdot, a, lam, inputs, refs, h, substeps, co
     if shift == 1:
         if delta == 0.0:
             a_n = vd_n.copy()
+        elif consistent:  # start_acceleration at this state, on the factors just made: one factorisation
+            a_n, stiff = taylor_shift(plan, pr, pR, v, vd_n, vd_n, lam_n, lu0, piv0, inputs, refs, hs, delta)
         else:
             a_n, stiff = start_acceleration(ip, fp, pr, pR, v, vd_n, inputs, refs, hs, delta)
     diss, supply, spring = _powers(plan, pr, pR, v, inputs, refs)

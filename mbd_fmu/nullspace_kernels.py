@@ -35,6 +35,7 @@ from .kernels import (
     lu_solve,
     retract,
     retract_full,
+    rkmk_sums,
     snapshot,
     unpack,
 )
@@ -125,14 +126,10 @@ def nullspace_step(ip, fp, pr, pR, v, vdot, inputs, refs, t, h, ta, tb, dep, ind
     kq = np.zeros((s, nf))
     ky = np.zeros((s, ni))
     for j in range(s):
-        theta = np.zeros(nf)
-        yj = vs.copy()
+        theta, yj = rkmk_sums(kq, ky, vs, ta[j], j, h)
         cj = 0.0
         for l in range(j):
             cj += ta[j, l]
-            if ta[j, l] != 0.0:
-                theta += h * ta[j, l] * kq[l]
-                yj += h * ta[j, l] * ky[l]
         if j == 0:  # the current state: its velocity and consistent acceleration are known
             w = v
             acc = vdot
@@ -145,11 +142,7 @@ def nullspace_step(ip, fp, pr, pR, v, vdot, inputs, refs, t, h, ta, tb, dep, ind
         kq[j] = _local_rate(theta, wf)
         for k in range(ni):
             ky[j, k] = acc[ind[k]]
-    theta = np.zeros(nf)
-    vs1 = vs.copy()
-    for l in range(s):
-        theta += h * tb[l] * kq[l]
-        vs1 += h * tb[l] * ky[l]
+    theta, vs1 = rkmk_sums(kq, ky, vs, tb, s, h)
     r1, R1 = retract_full(pr, pR, theta)
     ok = dep.shape[0] == 0
     for _ in range(max_iterations if dep.shape[0] else 0):
