@@ -245,7 +245,9 @@ class RadiationMemory:
         """mu at the current time given the current velocity (N; the radiation force is -mu); written into
         ``out`` (n,) if given."""
         self._write_pending(v_now)
-        return np.dot(self._all, self.window().reshape(-1), out=out)
+        m = self.m
+        start = (self.steps + self.gap) % m  # (current + 1) % m, as window()
+        return np.dot(self._all, self._ring[start : start + m].reshape(-1), out=out)
 
     def instantaneous_damping(self) -> np.ndarray:
         """d mu / d v_now (n, n), N s/m: the weight of the current velocity in :meth:`force`, the current
