@@ -23,10 +23,10 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    heave and pitch errors against the exact frequency-domain answer, compiled and Python paths, and
    the compiled path with the slaves called in-process (the FMI layer's share); the stepping loop's
    process CPU time is reported beside the wall clock (the steadier figure on a loaded machine).
-   Then seed 000's F3OF decay test 3 (scenarios/f3of_dt3.toml as bundled: index-3, 0.1 s step, 120 s,
-   three bodies, two hinges): the same figures, and the errors of the period and damping ratio of its two
-   free modes fitted to the run (``orchestrator.decay.fit_decay``, 20 s to the end) against the linear
-   model's roots (``orchestrator.decay.natural_modes``, as tests/test_f3of.py does over a longer run).
+   Then seed 000's F3OF decay test 3 (scenarios/f3of_dt3.toml as bundled: index-3, 0.1 s step, three
+   bodies, two hinges) over 1500 s: the same figures, and the errors of the period and damping ratio of its
+   two free modes fitted to the run (``orchestrator.decay.fit_decay``, 300 s to the end, after the radiation
+   kernel) against the linear model's roots (``orchestrator.decay.natural_modes``, as tests/test_f3of.py does).
    Then seed 000's 4N3LA and 9N9LA node/link-arm arrays, 20 s of their bundled irregular sea: real-time
    factors on the compiled and the Python path (issue 15: the seed 000 scenarios join the benchmark).
 
@@ -288,7 +288,7 @@ def hinge_barge(compiled: bool, duration: float, in_process: bool = False) -> tu
 def f3of_dt3_errors(data: dict, window_start: float = 20.0) -> list[tuple[float, float]]:
     """F3OF DT3: (period, damping ratio) relative errors of its two free modes (flaps pitching the same way and
     mirror-wise: half sum and half difference of the pitches) fitted from ``window_start`` to the end of the run,
-    against the linear model's roots (tests/test_f3of.py's check, on the bundled run's length)."""
+    against the linear model's roots (tests/test_f3of.py's check)."""
     from orchestrator.decay import fit_decay, natural_modes
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
@@ -425,15 +425,18 @@ def section_3(lines: list[str], quick: bool) -> None:
         lines.append(f"{label:<30}{rtf:8.1f}{rtf_cpu:7.1f}  {errs}")
         print(lines[-1], flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
-    duration = 30.0 if quick else 400.0
-    lines += ["", f"## 3b. F3OF decay test 3 (seed 000), as bundled (index-3, 0.1 s step) over {duration:g} s "
-              "(tests/test_f3of.py's run): real-time factor (target >= 100) and the two free modes' period and "
-              "damping-ratio errors against the linear model's roots (fit from 20 s to the end; the mirror-wise mode "
-              "is almost undamped and, from 10 deg, measurably nonlinear: docs/f3of.md)",
+    duration, start = (30.0, 20.0) if quick else (1500.0, 300.0)
+    lines += ["", "## 3b. F3OF decay test 3 (seed 000), as bundled (index-3, 0.1 s step, 10 deg start) over "
+              f"{duration:g} s through fmpy: real-time factor (target >= 100) and the two free modes' period and "
+              f"damping-ratio errors against the linear model's roots (fit from {start:g} s to the end: after the "
+              "240 s radiation kernel, "
+              "whose start from rest moves the almost undamped mirror-wise mode's fitted damping by ~10 % when the "
+              "window begins inside it; at the bundled 0.1 s step that mode's damping is ~3 % low, the step's error: "
+              "benchmarks/bench_f3of_dt3_mirror.py, docs/f3of.md)",
               f"{'path':<30}{'RTF':>8}{'CPU':>7}  errors (period %, damping ratio %: same-way mode; mirror mode)"]
     for label, in_process in (("compiled", False), ("compiled, in-process slaves", True)):
         (rtf, rtf_cpu), _, data = run_scene("f3of_dt3", True, duration, in_process)
-        errs = "; ".join(f"{100 * p:+.2f}%, {100 * d:+.1f}%" for p, d in f3of_dt3_errors(data))
+        errs = "; ".join(f"{100 * p:+.2f}%, {100 * d:+.1f}%" for p, d in f3of_dt3_errors(data, start))
         lines.append(f"{label:<30}{rtf:8.1f}{rtf_cpu:7.1f}  {errs}")
         print(lines[-1], flush=True)
     duration = 5.0 if quick else 20.0

@@ -321,7 +321,7 @@ class Master:
         The weights are computed from the rounded key itself, never from the first unrounded
         times that produced it: the cache is then a pure function of its key, so a run resumed
         from a checkpoint (empty cache) uses bit for bit the weights of an uninterrupted run."""
-        key = (tuple(round(x, 12) for x in tau), round(h, 12), point)
+        key = (tuple([round(x, 12) for x in tau]), round(h, 12), point)
         w = self._weights_cache.get(key)
         if w is None:
             tau_k, h_k = key[0], key[1]
@@ -337,7 +337,8 @@ class Master:
         p = min(self.extrapolation, len(hist) - 1)
         if p == 0:
             return hist[0][1].copy()
-        w = self._weights(tuple(hist[j][0] - self.time for j in range(p + 1)), h)
+        now = self.time
+        w = self._weights(tuple([hist[j][0] - now for j in range(p + 1)]), h)
         out = w[0] * hist[0][1]
         for j in range(1, p + 1):
             out += w[j] * hist[j][1]

@@ -59,12 +59,13 @@ class ResultsWriter:
         self.file.attrs["status"] = "running"
         self.file.attrs["wall_time"] = np.nan
         self.datasets = {}
-        self.buffers = {}
+        self.columns = row_layout(series)
         for name, shape in series.items():
             chunk = (max(1, min(buffer_rows, 1024)),) + tuple(shape)
             self.datasets[name] = self.file.create_dataset(
                 name, shape=(0,) + tuple(shape), maxshape=(None,) + tuple(shape), chunks=chunk, dtype="f8")
-            self.buffers[name] = np.zeros((buffer_rows,) + tuple(shape))
+        # One row of every series side by side (row_layout): a row is one copy, a flush one slice per series.
+        self.buffer = np.zeros((buffer_rows, sum(c.stop - c.start for c, _ in self.columns.values())))
         self.rows = 0  # rows in the buffer
         self.written = 0  # rows on disk
         self.file.swmr_mode = True
@@ -72,13 +73,27 @@ class ResultsWriter:
 
     def append(self, row: dict[str, np.ndarray | float]) -> None:
         """Add one sample of every series (missing series get NaN)."""
-        i = self.rows
-        for name, buf in self.buffers.items():
-            buf[i] = row.get(name, np.nan)
+        line = self.buffer[self.rows]
+        for name, (columns, _) in self.columns.items():
+            line[columns] = np.ravel(row.get(name, np.nan))
+        self._next_row()
+
+    def append_values(self, values: np.ndarray, extra: dict[str, np.ndarray | float] | None = None) -> None:
+        """Add one sample given as the leading columns of a row (:func:`row_layout` of the series, in order;
+        ``values`` may cover only the first series), the others from ``extra`` by name (missing: NaN)."""
+        line = self.buffer[self.rows]
+        k = len(values)
+        line[:k] = values
+        if k < len(line):
+            line[k:] = np.nan
+            for name, value in (extra or {}).items():
+                if name in self.columns:
+                    line[self.columns[name][0]] = np.ravel(value)
+        self._next_row()
+
+    def _next_row(self) -> None:
         self.rows += 1
-        if self.rows == len(next(iter(self.buffers.values()))) or (
-            time.monotonic() - self._last_flush > self.flush_seconds
-        ):
+        if self.rows == len(self.buffer) or time.monotonic() - self._last_flush > self.flush_seconds:
             self.flush()
 
     def append_block(self, data: dict[str, np.ndarray]) -> None:
@@ -115,11 +130,12 @@ class ResultsWriter:
 
     def _flush(self) -> None:
         if self.rows:
-            self._room(sum(b[: self.rows].nbytes for b in self.buffers.values()))
+            self._room(self.buffer[: self.rows].nbytes)
             n0, n1 = self.written, self.written + self.rows
             for name, ds in self.datasets.items():
+                columns, shape = self.columns[name]
                 ds.resize(n1, axis=0)
-                ds[n0:n1] = self.buffers[name][: self.rows]
+                ds[n0:n1] = self.buffer[: self.rows, columns].reshape((self.rows,) + shape)
                 ds.flush()
             self.written, self.rows = n1, 0
         self.file.flush()
@@ -158,6 +174,17 @@ class ResultsWriter:
                 return True
             except Exception:  # noqa: BLE001
                 return False
+
+
+def row_layout(series: dict[str, tuple[int, ...]]) -> dict[str, tuple[slice, tuple[int, ...]]]:
+    """Columns of each series in a flat row of all series side by side, in the dict's order: name -> (columns,
+    shape of one sample)."""
+    out, start = {}, 0
+    for name, shape in series.items():
+        size = int(np.prod(shape, dtype=np.int64))
+        out[name] = (slice(start, start + size), tuple(shape))
+        start += size
+    return out
 
 
 def write_error(exc: BaseException, path: Path) -> OSError:

@@ -27,7 +27,7 @@ from .interrupts import InterruptAtStep
 from .masters import EnergyStepController, FixedStepController, Master, MasterSettings, StepController, make_master
 from .monolithic import MonolithicMaster
 from .progress import ProgressBar
-from .results import ResultsWriter, read_results
+from .results import ResultsWriter, read_results, row_layout
 from .scenario import DOFS, Scenario, parse_scenario
 from .scene import HYDRO, MBD, Scene, load_scene
 
@@ -68,6 +68,17 @@ class Recorder:
         self.wave_balance = bool(self.hydro_energy_series(scene))
         if self.wave_balance:
             self.series["energy/wave_balance"] = ()
+        # One gather per component from its output vector into the flat row (results.row_layout)
+        layout = row_layout(self.series)
+        self.width = max(c.stop for c, _ in layout.values())
+        gather: dict[str, tuple[list[int], list[int]]] = {}
+        for name, comp, out, cols in self.plan:
+            start = layout[name][0].start
+            src, dest = gather.setdefault(comp, ([], []))
+            src += out.tolist()
+            dest += [start + k for k in (range(len(out)) if cols is None else cols.tolist())]
+        self._gather = {c: (np.array(s, dtype=np.intp), np.array(d, dtype=np.intp)) for c, (s, d) in gather.items()}
+        self._energy = {name: layout[name][0].start for name in layout if name.startswith("energy/")}
 
     @staticmethod
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
@@ -119,18 +130,15 @@ class Recorder:
         hydro += list(Recorder.hydro_energy_series(scene).values())
         return {MBD: mbd, HYDRO: hydro + ["wave.elevation"]}
 
-    def row(self, t: float, outputs: dict[str, np.ndarray]) -> dict[str, np.ndarray | float]:
-        row: dict[str, np.ndarray | float] = {"time": t}
-        for name, comp, out, cols in self.plan:
-            values = outputs[comp][out]
-            if cols is None:
-                row[name] = values[0] if not self.series[name] else values.copy()
-            else:
-                full = np.zeros(6)
-                full[cols] = values
-                row[name] = full
+    def values(self, t: float, outputs: dict[str, np.ndarray]) -> np.ndarray:
+        """The recorded series of one point as one flat row (:func:`~orchestrator.results.row_layout` of
+        :attr:`series`; DOFs a body does not have are zero)."""
+        row = np.zeros(self.width)
+        row[0] = t
+        for comp, (src, dest) in self._gather.items():
+            row[dest] = outputs[comp][src]
         if self.wave_balance:
-            row["energy/wave_balance"] = wave_balance(row)
+            row[self._energy["energy/wave_balance"]] = wave_balance({k: row[c] for k, c in self._energy.items()})
         return row
 
 
@@ -442,8 +450,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         if control:
             control.on_point(t, outputs)
         if k % sim.output_every == 0 or plan.controller.ticks >= end_tick:
-            row = recorder.row(t, outputs)
-            writer.append(row | control.row() if control else row)
+            writer.append_values(recorder.values(t, outputs), control.row() if control else None)
         state.steps = k + 1
         if t >= state.next_checkpoint - 1e-9 * sim.step:
             writer.flush()

@@ -538,7 +538,9 @@ def test_a_write_failure_mid_run_keeps_the_rows_and_records_failed(tmp_path) -> 
 
 def test_sigint_leaves_an_interrupted_file_and_no_traceback(tmp_path) -> None:
     data = bundled("cylinder_regular")
-    data["simulation"].update(duration=2000.0, flush_seconds=0.05)
+    # long enough that the run cannot end before the signal, even when the file's first rows are seen late under
+    # load (with 2000 s it once ended, status 0, before the SIGINT); it is interrupted after ~10 rows
+    data["simulation"].update(duration=200_000.0, flush_seconds=0.05)
     path = tmp_path / "s.toml"
     path.write_text(dumps(data))
     out = tmp_path / "out.h5"

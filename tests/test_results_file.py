@@ -25,3 +25,28 @@ def test_a_flush_cut_between_two_series_reads_back_as_the_rows_every_series_hold
     assert len(data["time"]) == 5 and data["bodies/float/displacement"].shape == (5, 6)
     np.testing.assert_array_equal(data["time"], 0.1 * np.arange(5))
     assert data["attrs"]["status"] == "running"
+
+
+def test_rows_given_as_flat_values_land_in_their_series_and_missing_series_read_nan(tmp_path) -> None:
+    """append_values: the leading columns of a row (row_layout order), later series by name, the rest NaN; the
+    same file as row-by-row dicts."""
+    from orchestrator.results import row_layout
+
+    series = {"time": (), "bodies/float/displacement": (6,), "energy/kinetic": (), "control/commands": (2,),
+              "control/fault": ()}
+    layout = row_layout(series)
+    assert layout["bodies/float/displacement"][0] == slice(1, 7) and layout["control/commands"][0] == slice(8, 10)
+    flat, by_dict = ResultsWriter(tmp_path / "a.h5", series, {}), ResultsWriter(tmp_path / "b.h5", series, {})
+    for k in range(3):
+        lead = np.concatenate([[0.5 * k], np.arange(6.0) + k, [10.0 * k]])
+        flat.append_values(lead, {"control/commands": [k, -k]})
+        by_dict.append({"time": 0.5 * k, "bodies/float/displacement": np.arange(6.0) + k, "energy/kinetic": 10.0 * k,
+                        "control/commands": np.array([k, -k])})
+    flat.close()
+    by_dict.close()
+    a, b = read_results(tmp_path / "a.h5"), read_results(tmp_path / "b.h5")
+    for name in series:
+        np.testing.assert_array_equal(a[name], b[name])
+    np.testing.assert_array_equal(a["bodies/float/displacement"][2], np.arange(6.0) + 2)
+    np.testing.assert_array_equal(a["control/commands"][:, 1], [0, -1, -2])
+    assert np.isnan(a["control/fault"]).all() and a["energy/kinetic"].tolist() == [0.0, 10.0, 20.0]
