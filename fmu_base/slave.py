@@ -149,6 +149,90 @@ def _describe_failure(what: str, exc: BaseException) -> str:
     return f"{what}: {type(exc).__name__}: {text}"
 
 
+class RealStore:
+    """The values of every Real variable of a slave in a few flat float64 blocks, with one numpy gather or
+    scatter per FMI call.
+
+    Each :meth:`allocate` returns a view into the current block (a new block when it is full; a block is never
+    reallocated, so the views stay valid for the life of the slave). The value references of a call are mapped
+    to (block, positions) once per distinct list of references (hosts read and write the same lists at every
+    step) and cached; a list spanning several blocks falls back to one read per value.
+    """
+
+    BLOCK = 4096  # floats per block (32 kB); a larger variable gets a block of its own
+    PLANS = 64  # distinct value-reference lists remembered (a host uses a handful)
+
+    def __init__(self) -> None:
+        self._blocks: list[np.ndarray] = []
+        self._used = 0  # floats used in the last small block
+        self._small: np.ndarray | None = None
+        self._where: dict[int, tuple[int, int]] = {}  # vr -> (block number, position)
+        self._plans: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray] | None] = {}
+
+    def allocate(self, values: np.ndarray) -> np.ndarray:
+        """A view of ``len(values)`` new floats in the store, initialised to ``values``."""
+        n = len(values)
+        if n > self.BLOCK // 4:
+            block = np.empty(n)
+            self._blocks.append(block)
+            view = block
+        else:
+            if self._small is None or self._used + n > len(self._small):
+                self._small = np.zeros(self.BLOCK)
+                self._blocks.append(self._small)
+                self._used = 0
+            view = self._small[self._used : self._used + n]
+            self._used += n
+        view[:] = values
+        return view
+
+    def bind(self, vr: int, view: np.ndarray, index: int) -> None:
+        """Value reference ``vr`` is element ``index`` of ``view`` (returned by :meth:`allocate`)."""
+        base = view.base if view.base is not None else view
+        number = next(k for k, b in enumerate(self._blocks) if b is base)
+        offset = (view.__array_interface__["data"][0] - base.__array_interface__["data"][0]) // view.itemsize
+        self._where[vr] = (number, offset + index)
+        self._plans.clear()
+
+    def _plan(self, vrs: list[int]) -> tuple[np.ndarray, np.ndarray] | None:
+        key = tuple(vrs)
+        plan = self._plans.get(key, False)
+        if plan is False:
+            where = [self._where[vr] for vr in key]  # KeyError for an unknown reference, as before
+            blocks = {b for b, _ in where}
+            plan = None if len(blocks) != 1 else (self._blocks[blocks.pop()], np.array([p for _, p in where],
+                                                                                        dtype=np.intp))
+            if len(self._plans) >= self.PLANS:
+                self._plans.clear()
+            self._plans[key] = plan
+        return plan
+
+    def gather(self, vrs: list[int]) -> list[float]:
+        """The values of ``vrs`` (a list of Python floats, what PythonFMU hands to the host)."""
+        plan = self._plans.get(tuple(vrs), False)
+        if plan:
+            return plan[0].take(plan[1]).tolist()
+        if plan is False and self._plan(vrs) is not None:
+            return self.gather(vrs)
+        return [self._blocks[b].item(p) for b, p in (self._where[vr] for vr in vrs)]
+
+    def scatter(self, vrs: list[int], values: list[float]) -> None:
+        """Write ``values`` into ``vrs`` (same length)."""
+        if len(vrs) != len(values):
+            raise ValueError(f"{len(vrs)} value references but {len(values)} values")
+        plan = self._plans.get(tuple(vrs), False)
+        if plan:
+            plan[0][plan[1]] = values
+            return
+        plan = self._plan(vrs)
+        if plan is None:
+            for vr, value in zip(vrs, values, strict=True):
+                b, p = self._where[vr]
+                self._blocks[b][p] = value
+        else:
+            plan[0][plan[1]] = values
+
+
 class VectorSlave(Fmi2Slave):
     """PythonFMU slave whose Real variables are views of numpy arrays.
 
@@ -178,6 +262,7 @@ class VectorSlave(Fmi2Slave):
         super().__init__(**kwargs)
         hold_module_globals(type(self).__module__)
         self._slot: dict[int, tuple[np.ndarray, int]] = {}
+        self._values = RealStore()
         self._input_vrs: list[int] = []
         self._output_deps: dict[int, Sequence[str] | None] = {}
         self._units: dict[str, str] = {}
@@ -207,7 +292,7 @@ class VectorSlave(Fmi2Slave):
         for u in units:
             if u not in _BASE_UNITS:
                 raise ValueError(f"unit {u!r} of {key} is not in the unit table")
-        values = np.array(start, dtype=float).reshape(len(names))
+        values = self._values.allocate(np.array(start, dtype=float).reshape(len(names)))
         variability = {
             "parameter": Fmi2Variability.fixed,
             "calculatedParameter": Fmi2Variability.fixed,
@@ -227,6 +312,7 @@ class VectorSlave(Fmi2Slave):
             )
             self.register_variable(var)
             self._slot[var.value_reference] = (values, i)
+            self._values.bind(var.value_reference, values, i)
             self._units[name] = units[i]
             if causality == "input":
                 self._input_vrs.append(var.value_reference)
@@ -244,6 +330,22 @@ class VectorSlave(Fmi2Slave):
 
     def array(self, key: str) -> np.ndarray:
         return self._arrays[key]
+
+    def stacked(self, keys: Sequence[str]) -> np.ndarray | None:
+        """The arrays of ``keys`` (equal lengths n) as rows of one (len(keys), n) view, if they were registered
+        one after the other (adjacent in the value store); None otherwise."""
+        arrays = [self._arrays[k] for k in keys]
+        first = arrays[0]
+        base = first.base if first.base is not None else first
+        start = (first.__array_interface__["data"][0] - base.__array_interface__["data"][0]) // first.itemsize
+        n = len(first)
+        view = base[start : start + n * len(arrays)]
+        if len(view) != n * len(arrays) or not all(
+                len(a) == n and np.shares_memory(a, view[i * n : (i + 1) * n])
+                and a.__array_interface__["data"][0] == view[i * n :].__array_interface__["data"][0]
+                for i, a in enumerate(arrays)):
+            return None
+        return view.reshape(len(arrays), n)
 
     def log(self, msg: str, status: Any = None, category: str | None = None, debug: Any = None) -> None:
         """PythonFMU's log with "%" escaped: FMI hosts treat the message as a printf format string
@@ -264,14 +366,10 @@ class VectorSlave(Fmi2Slave):
 
     def get_real(self, vrs: list[int]) -> list[float]:
         self.refresh_outputs()
-        slot = self._slot
-        return [slot[vr][0].item(slot[vr][1]) for vr in vrs]
+        return self._values.gather(vrs)
 
     def set_real(self, vrs: list[int], values: list[float]) -> None:
-        slot = self._slot
-        for vr, value in zip(vrs, values, strict=True):
-            array, index = slot[vr]
-            array[index] = value
+        self._values.scatter(vrs, values)
         self._outputs_stale = True
 
     def mark_outputs_stale(self) -> None:

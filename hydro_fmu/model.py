@@ -37,6 +37,7 @@ from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory,
 from .waves import PhasorClock, Ramp, WaveComponents
 
 RADIATION_METHODS = ("convolution", "state_space")
+FORCE_ROWS = ("total", "excitation", "radiation", "hydrostatic", "viscous")  # rows of HydroModel.block
 EXCITATION_METHODS = ("superposition", "convolution")
 
 
@@ -181,6 +182,9 @@ class HydroModel:
         self.report = RadiationReport(options.radiation_method)
         self.radiation = self._radiation() if switches.radiation else None
         self._memory_rate = MemoryRate()
+        self._restoring = -self.hydrostatics.stiffness  # F_hs = -C x as one product (evaluate())
+        self.block = np.zeros((len(FORCE_ROWS), self.n))  # evaluate(): the force components, FORCE_ROWS order
+        self._phasor_table = self._combined_phasor_table()
 
     # ------------------------------------------------------------------ construction
     @property
@@ -201,6 +205,21 @@ class HydroModel:
         eta = record if record is not None else self.waves.elevation
         return ExcitationConvolution(self.hdb, self.index, self.waves.main_heading, eta,
                                      o.excitation_irf_duration, self.dt, self.ramp)
+
+    def _combined_phasor_table(self) -> np.ndarray | None:
+        """(K, n + 1) complex: the excitation's complex force amplitude of each wave component (zero for the
+        components above the database, which it leaves out) and, last, the component's complex elevation
+        amplitude, so that one product with exp(i omega_k t) gives both (:meth:`evaluate`); None if the
+        excitation or the elevation is not the superposition of the components."""
+        convolution = self.excitation is not None and not isinstance(self.excitation, ExcitationForce)
+        if self.record is not None or convolution:
+            return None
+        table = np.zeros((len(self.waves.omega), self.n + 1), complex)
+        table[:, self.n] = self.waves.complex_amplitude
+        if self.excitation is not None and len(self.excitation.omega):
+            keep = np.asarray(self.waves.omega, dtype=float) <= self.hdb.omega[-1]  # as ExcitationForce
+            table[keep, : self.n] = self.excitation.coefficients
+        return table
 
     def _pressure_models(self) -> dict[int, BodyPressureModel]:
         if not self.nonlinear:
@@ -283,6 +302,46 @@ class HydroModel:
             if o.nonlinear_froude_krylov and sw.excitation:
                 exc = exc + fk
         return HydroForces(total=exc + rad + hs + visc, excitation=exc, radiation=rad, hydrostatic=hs, viscous=visc)
+
+    def evaluate(self, t: float, x: np.ndarray, v: np.ndarray) -> float:
+        """The force components at time ``t`` (s) for ``x``, ``v`` written into :attr:`block` (rows in
+        :data:`FORCE_ROWS` order: total, excitation, radiation, hydrostatic, viscous); returns the wave
+        elevation at the origin (m).
+
+        The same values as :meth:`forces` and :meth:`elevation` to round-off (only the order of some sums
+        differs), in one pass over preallocated arrays: excitation and elevation from one product of the
+        phasors with :meth:`_combined_phasor_table`, the radiation memory as one matrix-vector product into
+        its row, the total as one sum over the rows. A nonlinear model, an imported record or the excitation
+        convolution take the general path for those parts.
+        """
+        block = self.block
+        exc, rad, hs, visc = block[1], block[2], block[3], block[4]
+        o, sw = self.options, self.switches
+        table = self._phasor_table
+        if table is not None:
+            r = 1.0 if t >= self.ramp.duration else self.ramp(t)
+            z = np.dot(self._clock(t), table)
+            np.multiply(z.real[: self.n], r, out=exc)
+            eta = float(z.real[self.n]) * r
+        else:
+            if self.excitation is not None:
+                exc[:] = self.excitation(t)
+            eta = self.elevation(t)
+        if self.radiation is not None:
+            self.radiation.force(v, out=rad)
+            np.negative(rad, out=rad)
+        if self.viscous is not None:
+            visc[:] = self.viscous(v)
+        if sw.hydrostatics and not o.nonlinear_hydrostatics:
+            np.dot(self._restoring, x, out=hs)
+        if self.nonlinear:
+            hs_nl, fk = self._pressure_forces(t, x)
+            if o.nonlinear_hydrostatics and sw.hydrostatics:
+                hs[:] = hs_nl
+            if o.nonlinear_froude_krylov and sw.excitation:
+                exc += fk
+        np.sum(block[1:], axis=0, out=block[0])  # ((exc + rad) + hs) + visc, as forces()
+        return eta
 
     def affine(self, t: float, x: np.ndarray, v: np.ndarray, pattern: CouplingPattern,
                forces: HydroForces | None = None) -> AffineForce:

@@ -187,8 +187,14 @@ class RadiationMemory:
         dt: sampling step (s).
 
     Use: at each communication point call :meth:`force` with the current velocity (as often as
-    needed: it changes nothing), then :meth:`advance` with that velocity and the number q >= 1 of
-    grid steps to the next communication point.
+    needed: the result depends only on the committed history and that velocity), then :meth:`step`
+    (or :meth:`advance`) with that velocity and the step to the next communication point.
+
+    Layout: the velocities at the last m grid points (lags m-1 .. 0, the current point and the points
+    interpolated since the last commit included) are one contiguous (m, n) window of a double-length
+    ring buffer (grid point s at rows s mod m and s mod m + m), and all the trapezoidal weights one
+    (n, m n) matrix, so the force is a single matrix-vector product (about 11 us for n = 6,
+    m = 1500 here) and committing a point writes no more than its own rows.
     """
 
     def __init__(self, kernel: np.ndarray, dt: float) -> None:
@@ -203,30 +209,45 @@ class RadiationMemory:
         w = kernel * weights[:, None, None]
         self._k0 = w[0]  # weight of the current velocity
         self._weights = w  # (m, n, n): weight of the velocity j grid steps ago
-        # History weights, oldest first, as one (n, (m-1) n) matrix for a single mat-vec.
-        self._past = np.ascontiguousarray(np.transpose(w[1:][::-1], (1, 0, 2)).reshape(n, (m - 1) * n))
-        # Double-length ring buffer: the last m-1 grid velocities are always contiguous.
-        self._buffer = np.zeros((2 * (m - 1), n))
-        self._head = 0  # index of the oldest sample of the current window
+        # Weights of lags m-1 .. 0 (oldest first) as one (n, m n) matrix for a single mat-vec.
+        self._all = np.ascontiguousarray(np.transpose(w[::-1], (1, 0, 2)).reshape(n, m * n))
+        self._ring = np.zeros((2 * m, n))  # grid point s at rows s % m and s % m + m
         self._last = np.zeros(n)  # velocity at the last committed grid point
         self.gap = 1  # grid steps from the last committed point to the current time
         self.steps = 0  # grid points committed so far
 
-    def _window(self, v_now: np.ndarray) -> np.ndarray:
-        """Velocities at lags m-1 .. 1 grid steps before now, oldest first."""
-        k = self.m - 1
-        window = self._buffer[self._head : self._head + k]
-        if self.gap <= 1:
-            return window
-        q = self.gap
-        lags = np.arange(q - 1, 0, -1)  # intermediate points, oldest first
-        inner = v_now + np.outer(lags / q, self._last - v_now)
-        keep = max(0, k - (q - 1))
-        return np.concatenate([window[k - keep :], inner[-k:] if q - 1 > k else inner])
+    @property
+    def current(self) -> int:
+        """Grid index of the current time."""
+        return self.steps - 1 + self.gap
 
-    def force(self, v_now: np.ndarray) -> np.ndarray:
-        """mu at the current time given the current velocity (N; the radiation force is -mu)."""
-        return self._past @ self._window(v_now).reshape(-1) + self._k0 @ v_now
+    def _write_pending(self, v_now: np.ndarray) -> None:
+        """Velocities of the grid points after the last committed one, up to now: linear from the last
+        committed velocity to ``v_now`` (only the last m of them are ever read)."""
+        c, q, m = self.current, self.gap, self.m
+        if q == 1:
+            row = c % m
+            self._ring[row] = v_now
+            self._ring[row + m] = v_now
+            return
+        lags = np.arange(min(q, m) - 1, -1, -1)  # oldest first
+        values = v_now + (lags / q)[:, None] * (self._last - v_now)
+        rows = (c - lags) % m
+        self._ring[rows] = values
+        self._ring[rows + m] = values
+
+    def window(self) -> np.ndarray:
+        """Velocities at lags m-1 .. 0 (oldest first), (m, n), as last written."""
+        start = (self.current + 1) % self.m
+        return self._ring[start : start + self.m]
+
+    def force(self, v_now: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """mu at the current time given the current velocity (N; the radiation force is -mu); written into
+        ``out`` (n,) if given."""
+        self._write_pending(v_now)
+        m = self.m
+        start = (self.steps + self.gap) % m  # (current + 1) % m, as window()
+        return np.dot(self._all, self._ring[start : start + m].reshape(-1), out=out)
 
     def instantaneous_damping(self) -> np.ndarray:
         """d mu / d v_now (n, n), N s/m: the weight of the current velocity in :meth:`force`, the current
@@ -237,13 +258,6 @@ class RadiationMemory:
         for lag in range(1, min(q, self.m)):
             d += (1.0 - lag / q) * self._weights[lag]
         return d
-
-    def _push(self, v: np.ndarray) -> None:
-        k = self.m - 1
-        self._buffer[self._head] = v
-        self._buffer[self._head + k] = v
-        self._head = (self._head + 1) % k
-        self.steps += 1
 
     def step(self, v_now: np.ndarray, h: float) -> None:
         """Commit the current velocity and move ``h`` seconds on: a whole number of grid steps."""
@@ -260,10 +274,9 @@ class RadiationMemory:
         commit), then move ``q`` grid steps forward."""
         if q < 1:
             raise ValueError("a step must span at least one grid step")
-        for lag in range(self.gap - 1, 0, -1):
-            self._push(v_now + (lag / self.gap) * (self._last - v_now))
-        self._push(v_now)
-        self._last = np.array(v_now, dtype=float)
+        self._write_pending(v_now)
+        self.steps += self.gap
+        self._last[:] = v_now
         self.gap = q
 
 

@@ -44,7 +44,7 @@ from .bemio import read_bemio
 from .drag import ViscousCoefficients
 from .linearisation import CouplingPattern
 from .meshes import read_meshes
-from .model import ForceSwitches, HydroModel, HydroOptions
+from .model import ForceSwitches, HydroForces, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
 from .state_space import DEFAULT_TOLERANCE
 from .work import COMPONENTS, WorkAccount
@@ -106,6 +106,7 @@ class HydroSlave(VectorSlave):
         self.set_default_experiment(self.spec)
         self._register_parameters()
         self._register_body_variables()
+        self._force_outputs = self._force_output_map()
         self._affine_fresh = False
         self._register_coupling()
         self._register_added_mass()
@@ -169,6 +170,14 @@ class HydroSlave(VectorSlave):
             if present:
                 self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
                                description=desc, depends_on=deps)
+
+    def _force_output_map(self) -> tuple[list[int], np.ndarray | list[np.ndarray]]:
+        """(rows of HydroModel.block, where they go): the force outputs that exist, as one stacked view of
+        the value store when they are adjacent there (one copy per point), else one array each."""
+        keys = [k for k in ("F", "F_exc", "F_rad", "F_hs", "F_visc") if k in self._arrays]
+        rows = [("F", "F_exc", "F_rad", "F_hs", "F_visc").index(k) for k in keys]
+        stacked = self.stacked(keys)
+        return rows, stacked if stacked is not None else [self.array(k) for k in keys]
 
     def _register_coupling(self) -> None:
         """Outputs of the linearised force interface (fmu_base.coupling), if the scene lists its pattern."""
@@ -281,18 +290,22 @@ class HydroSlave(VectorSlave):
         self.mark_outputs_stale()
 
     def update_outputs(self) -> None:
+        """Every output of the current point in one pass (:meth:`HydroModel.evaluate` into the model's force
+        block, then copied into the output variables; powers and work from the same block)."""
         assert self.model is not None
-        x, v = self.array("x"), self.array("v")
-        f = self._forces = self.model.forces(self.time, x, v)
+        model = self.model
+        v = self.array("v")
+        eta = model.evaluate(self.time, self.array("x"), v)
         self._affine_fresh = False
-        self.array("F")[:] = f.total
-        for key, value in (("F_exc", f.excitation), ("F_rad", f.radiation), ("F_hs", f.hydrostatic),
-                           ("F_visc", f.viscous)):
-            if key in self._arrays:
-                self.array(key)[:] = value
-        self.array("wave.elevation")[0] = self.model.elevation(self.time)
-        self._power = WorkAccount.powers(f.excitation, f.radiation, f.hydrostatic, f.viscous, self.array("v"))
-        self.array("energy")[:] = self.work.value(self.time, self._power)
+        rows, outputs = self._force_outputs
+        if isinstance(outputs, np.ndarray):
+            np.take(model.block, rows, axis=0, out=outputs)
+        else:
+            for row, out in zip(rows, outputs, strict=True):
+                out[:] = model.block[row]
+        self.array("wave.elevation")[0] = eta
+        np.dot(model.block[1:], v, out=self._power)  # COMPONENTS order: the block's rows after the total
+        self.work.value(self.time, self._power, out=self.array("energy"))
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Outputs of the current point; the linearised force interface's (F0, F0_rate, dF_dx, dF_dv) only when a
@@ -305,7 +318,8 @@ class HydroSlave(VectorSlave):
         return super().get_real(vrs)
 
     def _update_affine(self) -> None:
-        a = self.model.affine(self.time, self.array("x"), self.array("v"), self.pattern, self._forces)
+        forces = HydroForces(*self.model.block.copy())  # this point's (refresh_outputs ran first)
+        a = self.model.affine(self.time, self.array("x"), self.array("v"), self.pattern, forces)
         self.array("F0")[:] = a.constant
         self.array("F0_rate")[:] = a.rate
         self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
@@ -318,7 +332,7 @@ class HydroSlave(VectorSlave):
             self._outputs_stale = False
         self.work.commit(self.time, self._power)  # the FMU's own clock (below)
         try:
-            self.model.advance(current_time, step_size, self.array("v").copy())
+            self.model.advance(current_time, step_size, self.array("v"))  # the memories copy what they keep
         except ValueError as exc:
             self.log(str(exc), Fmi2Status.error)
             return False

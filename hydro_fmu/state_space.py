@@ -326,10 +326,11 @@ class StateSpaceMemory:
             self._cache[h] = (m, self.c @ m)
         return self._cache[h]
 
-    def force(self, v_now: np.ndarray) -> np.ndarray:
-        """mu at the current time given the current velocity (N; the radiation force is -mu)."""
+    def force(self, v_now: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """mu at the current time given the current velocity (N; the radiation force is -mu); written into
+        ``out`` (n,) if given."""
         self.w[self.r + self.n :] = v_now
-        return self._update(self.pending)[1] @ self.w
+        return np.dot(self._update(self.pending)[1], self.w, out=out)
 
     def instantaneous_damping(self) -> np.ndarray:
         """d mu / d v_now (n, n), N s/m: C G1 of the step since the last commit (about K(0) h / 2)."""

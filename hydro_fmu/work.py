@@ -38,11 +38,18 @@ class WorkAccount:
         """Power (W) of each component on velocity ``v`` (forces and velocities on the same DOFs)."""
         return np.array([excitation @ v, radiation @ v, hydrostatic @ v, viscous @ v], dtype=float)
 
-    def value(self, t: float, power: np.ndarray) -> np.ndarray:
-        """Work at time ``t`` (s) given the power there (the step since the last committed point added)."""
+    def value(self, t: float, power: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Work at time ``t`` (s) given the power there (the step since the last committed point added);
+        written into ``out`` (len(COMPONENTS),) if given."""
         if self.last_power is None:
-            return self.committed.copy()
-        return self.committed + 0.5 * (t - self.last_time) * (self.last_power + power)
+            if out is None:
+                return self.committed.copy()
+            out[:] = self.committed
+            return out
+        out = np.add(self.last_power, power, out=out)
+        out *= 0.5 * (t - self.last_time)
+        out += self.committed
+        return out
 
     def commit(self, t: float, power: np.ndarray) -> None:
         """Accept the point ``t`` (the start of the next step)."""
