@@ -172,6 +172,7 @@ class HydroModel:
         self.added_mass_inf = sub.added_mass_inf[np.ix_(self.index, self.index)]
         self.start_time = 0.0
         self._elapsed = 0.0
+        self._elapsed_error = 0.0  # compensation of the running sum of steps (advance)
         self.record = record
         self._clock = PhasorClock(waves.omega)
         self.excitation = self._excitation(record) if switches.excitation else None
@@ -416,7 +417,12 @@ class HydroModel:
             self.radiation.step(v, h)
         elif not h > 0:
             raise ValueError(f"a step must be positive (got {h})")
-        self._elapsed += h
+        # compensated (Kahan) sum: a plain sum of ~1e6 steps drifts by ~n u t (3e-6 s after 26 000 s at 0.02 s,
+        # beyond the check above); compensated, by ~2 u t whatever the number of steps
+        y = h - getattr(self, "_elapsed_error", 0.0)
+        total = self._elapsed + y
+        self._elapsed_error = (total - self._elapsed) - y
+        self._elapsed = total
 
     def elevation(self, t: float) -> float:
         """Incident wave elevation at the world origin (m): the record if imported, else the components."""

@@ -392,8 +392,8 @@ class MultibodySection:
     restart: str = option(
         "consistent", choices=("consistent", "increment"),
         doc="generalised-alpha restart when the held inputs change at a macro step: `consistent` resets the "
-            "algorithmic acceleration from the consistent acceleration and its derivative (three solves), "
-            "`increment` adds the jump of the consistent acceleration (one solve); both second order "
+            "algorithmic acceleration from the consistent acceleration and its derivative (one factorisation, "
+            "two solves), `increment` adds the jump of the consistent acceleration (one solve); both second order "
             "(docs/multibody.md)")
     gravity: bool = option(True, doc="apply gravity at the centres of gravity and the bodies' buoyancy "
                                      "(nonlinear formulations)")
