@@ -36,6 +36,10 @@ from .model import MultibodyModel
 class MultibodySimulator:
     """Model + formulation + substepping + outputs (module docstring)."""
 
+    # The fused macro step also computes the outputs at its end (a host that reads them every step, as the FMU
+    # does, saves a second call); False: outputs computed when first read (a loop that reads few of them).
+    eager_outputs = False
+
     def __init__(self, model: MultibodyModel, settings: Settings, max_step: float = 0.0,
                  ptos: list[CoordinateSpringDamper] = ()) -> None:
         self.model = model
@@ -75,9 +79,9 @@ class MultibodySimulator:
         compiled call (:meth:`_advance_fused`); anything it does not cover takes the step by step path below,
         which gives the same state within round-off."""
         n = max(1, math.ceil(h / self.max_step - 1e-9)) if self.max_step > 0 else 1
-        if inputs is not None and not restart and self._advance_fused(h, n, inputs):
-            return
         f = self.formulation
+        if not restart and self._advance_fused(h, n, inputs):
+            return
         if getattr(self, "_commands_changed", False):  # PTO commands changed (set_pto_commands(defer=True))
             self._commands_changed = False
             f.on_restart()
@@ -99,7 +103,7 @@ class MultibodySimulator:
         self.pto_energy += 0.5 * h / n * (self._powers[2] + powers[2])
         self._powers = powers
 
-    def _advance_fused(self, h: float, n: int, inputs: np.ndarray) -> bool:
+    def _advance_fused(self, h: float, n: int, inputs: np.ndarray | None) -> bool:
         """The macro step in one compiled call (:func:`mbd_fmu.kernels.ga_macro_step`) on the compiled index-3
         path; False (nothing changed) where it does not apply: another formulation or the Python path, kept
         constraint rows due for re-selection, a singular consistent acceleration or a first substep that does not
@@ -112,13 +116,17 @@ class MultibodySimulator:
         if f.compiled is None or (len(m.kept) != m.m and not (f._quality is not None and f._quality[0] == f.steps
                                                       and f._quality[1] >= 0.5)):
             return False
-        inputs = np.array(inputs, dtype=float)
+        if inputs is None:  # held
+            inputs, changed = f.inputs, False
+        else:
+            inputs = np.array(inputs, dtype=float)
+            changed = not np.array_equal(inputs, f.inputs)
         mode = f.settings.restart
-        consistent = mode != "none" and (getattr(self, "_commands_changed", False)
-                                         or not np.array_equal(inputs, f.inputs))
+        consistent = mode != "none" and (getattr(self, "_commands_changed", False) or changed)
         shift = 1 if f.a is None or (consistent and mode != "increment") else (2 if consistent else 0)
         status, done, iterations, retries, keep, stiff, out, at = f.fused(
-            h, n, consistent, shift, inputs=inputs, energy=self._energy_sums(), ptos=self._pto_springs(), outputs=True)
+            h, n, consistent, shift, inputs=inputs, energy=self._energy_sums(), ptos=self._pto_springs(),
+            outputs=self.eager_outputs)
         if done == 0:
             if status != 0:
                 f._lu_key = None  # the factors may have been overwritten
@@ -136,8 +144,10 @@ class MultibodySimulator:
         f._lu_key = (hs, m.kept) if keep else None
         self.dissipated, self.work, self.pto_energy = out[at[7]:at[7] + 3].tolist()
         self._powers = tuple(out[at[8]:at[8] + 3].tolist())
-        if done == n:
+        if done == n and self.eager_outputs:
             self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), self._split_outputs(out, at))
+        elif done == n:
+            self._outputs = None  # computed when read (compiled_outputs)
         else:  # stopped early (rows to re-select, a substep that did not converge): the rest step by step
             self._outputs = None
             for _ in range(n - done):

@@ -236,6 +236,7 @@ class MultibodySlave(VectorSlave):
                                               self.array("pto.force_command"), strict=True)]
         m = len(spec["hydro_coordinates"])
         self.system = build_simulator(spec, self.array("A_inf").reshape(m, m))
+        self.system.eager_outputs = True  # a host reads the outputs at every communication point
         model = self.system.model
         self._input_slots = np.array([model.slot_of(b["name"], d) for b in spec["bodies"] for d in b["dofs"]],
                                      dtype=int)
