@@ -1434,6 +1434,8 @@ def ga_macro_step(ip, fp, pr, pR, v, vdot, a, lam, inputs, refs, h, substeps, co
        stale matrix retried once with a fresh one), each followed by the angle references' commit, the row quality
        and the powers at its end, and the trapezoidal energy sums ``energy`` = (dissipated, external work, PTO
        energy) += 0.5 h / substeps (P_start + P_end) (O(h^2)); ``pto_springs``: the PTOs' spring positions;
+       ``energy[4:7]``, if given: the powers at the start (dissipated, supplied, PTO), used when the call makes no
+       restart (the end powers of the step that led here: the same state and inputs);
     3. the outputs at the end (:func:`_outputs`), the energy balance (``energy[3]``: the initial mechanical energy)
        and the PTOs' outputs, if ``out`` has room for them.
 
@@ -1465,10 +1467,15 @@ def ga_macro_step(ip, fp, pr, pR, v, vdot, a, lam, inputs, refs, h, substeps, co
             a_n, stiff = taylor_shift(plan, pr, pR, v, vd_n, vd_n, lam_n, lu0, piv0, inputs, refs, hs, delta)
         else:
             a_n, stiff = start_acceleration(ip, fp, pr, pR, v, vd_n, inputs, refs, hs, delta)
-    diss, supply, spring = _powers(plan, pr, pR, v, inputs, refs)
-    pto = 0.0
-    for i in pto_springs:
-        pto += spring[i]
+    if substeps > 0 and not consistent and shift == 0 and energy.shape[0] >= 7:
+        # the powers at the start, carried from the step that led here (same state, same inputs): the caller's
+        diss, supply, pto = energy[4], energy[5], energy[6]
+        spring = np.zeros(plan[21].shape[0])  # (each substep sets them)
+    else:
+        diss, supply, spring = _powers(plan, pr, pR, v, inputs, refs)
+        pto = 0.0
+        for i in pto_springs:
+            pto += spring[i]
     r_n, R_n, v_n, refs_n = pr, pR, v, refs
     dissipated, work, pto_energy = energy[0], energy[1], energy[2]
     status, done, iterations, retries, keep, quality = 0, 0, 0, 0, have_lu, 1.0

@@ -124,8 +124,12 @@ class MultibodySimulator:
         mode = f.settings.restart
         consistent = mode != "none" and (getattr(self, "_commands_changed", False) or changed)
         shift = 1 if f.a is None or (consistent and mode != "increment") else (2 if consistent else 0)
+        energy = self._energy_sums()
+        end = f.end_powers  # the powers now, from the step that led here (None after a restart or new commands)
+        if not (consistent or changed) and end is not None and end[0] == f.steps:
+            energy = np.concatenate([energy, self._powers])  # the start powers: the kernel need not evaluate them
         status, done, iterations, retries, keep, stiff, out, at = f.fused(
-            h, n, consistent, shift, inputs=inputs, energy=self._energy_sums(), ptos=self._pto_springs(),
+            h, n, consistent, shift, inputs=inputs, energy=energy, ptos=self._pto_springs(),
             outputs=self.eager_outputs)
         if done == 0:
             if status != 0:
