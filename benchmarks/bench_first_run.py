@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import resource
 import subprocess
 import sys
@@ -29,14 +28,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import write_report  # noqa: E402
+from benchmarks.common import load, report_header, write_report  # noqa: E402
 
 # (scenario, simulated seconds or None for the scenario's own)
 SCENES = (("hinge_barge", None), ("array_4n3la", 20.0))
-
-
-def load() -> str:
-    return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 def child_run(scenario: str, duration: float | None, cache: Path, out: Path) -> tuple[float, float]:
@@ -99,13 +94,9 @@ def main() -> None:
     p.add_argument("--out", default="", help="also write the report to this file")
     p.add_argument("--entry-points", action="store_true", help="also list the compile time of each entry point")
     args = p.parse_args()
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=ROOT).stdout.strip()
     import numba
 
-    lines = [f"# command: python benchmarks/bench_first_run.py {' '.join(sys.argv[1:])}".rstrip(),
-             f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
-             f"{platform.python_version()}, numba {numba.__version__}; git {commit}; load average at start {load()}",
+    lines = [*report_header("bench_first_run.py", f", numba {numba.__version__}"),
              "", "## whole `wec-cosim run` (through fmpy) with an empty WEC_COSIM_CACHE, then again with it warm",
              f"{'scene':<14}{'simulated':>10}{'cold CPU s':>12}{'wall s':>8}{'warm CPU s':>12}{'wall s':>8}  load"]
     for scenario, duration in SCENES:

@@ -19,9 +19,6 @@ Run: python benchmarks/bench_macro_step.py --out benchmarks/results/macro_step.t
 from __future__ import annotations
 
 import argparse
-import os
-import platform
-import subprocess
 import sys
 import tempfile
 import time
@@ -33,11 +30,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import write_report  # noqa: E402
-
-
-def load() -> str:
-    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+from benchmarks.common import load, report_header, write_report  # noqa: E402
 
 
 def run_once(scenario, fused: bool) -> tuple[dict, float, np.ndarray]:
@@ -91,11 +84,7 @@ def main() -> None:
     args = p.parse_args()
     from orchestrator.scenario import load_scenario
 
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=ROOT).stdout.strip()
-    lines = [f"# command: python benchmarks/bench_macro_step.py {' '.join(sys.argv[1:])}".rstrip(),
-             f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
-             f"{platform.python_version()}; git {commit}; load average at start {load()}",
+    lines = [*report_header("bench_macro_step.py"),
              "# in-process runs (slaves in this process), minimum over the repeats of us per macro step"]
     for name in args.scenarios:
         scenario = load_scenario(ROOT / "scenarios" / f"{name}.toml")

@@ -2,7 +2,28 @@
 
 from __future__ import annotations
 
+import os
+import platform
+import subprocess
+import sys
 from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def load() -> str:
+    """The load averages (1, 5, 15 min) as text."""
+    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def report_header(script: str, versions: str = "") -> list[str]:
+    """The first lines of a benchmark record: the command that produced it, then the machine, Python, the
+    ``versions`` given, the git commit and the load at the start."""
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                            cwd=ROOT).stdout.strip()
+    return [f"# command: python benchmarks/{script} {' '.join(sys.argv[1:])}".rstrip(),
+            f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
+            f"{platform.python_version()}{versions}; git {commit}; load average at start {load()}"]
 
 
 def write_report(lines: list[str], out: str | None) -> str:
