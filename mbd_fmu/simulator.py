@@ -179,12 +179,21 @@ class MultibodySimulator:
         if at is not None:
             values, flat = flat, flat[at[11]:at[12]]
         nb, nj, nc = self.model.N, len(self.model.joints), len(self.formulation.compiled.coordinates)
+        k = self._outputs_offsets()
+        return {"values": values, "layout": at, "displacement": flat[:k["kinetic"]].reshape(nb, 6),
+                "kinetic": flat[k["kinetic"]], "potential": flat[k["potential"]], "violation": flat[k["violation"]],
+                "reactions": flat[k["reactions"]:k["coordinates"]].reshape(nj, 6),
+                "coordinates": flat[k["coordinates"]:k["spring_forces"]].reshape(nc, 2),
+                "spring_forces": flat[k["spring_forces"]:]}
+
+    def _outputs_offsets(self) -> dict[str, int]:
+        """Offsets of the parts of :func:`mbd_fmu.kernels.outputs`' flat array: the bodies' displacements (N, 6)
+        first, then kinetic and potential energy, constraint violation, joints' reactions (J, 6), compiled
+        coordinates' values and rates (S, 2), compiled springs' forces (E,)."""
+        nb, nj, nc = self.model.N, len(self.model.joints), len(self.formulation.compiled.coordinates)
         o = 6 * nb + 3
-        return {"values": values, "layout": at, "displacement": flat[:6 * nb].reshape(nb, 6),
-                "kinetic": flat[6 * nb], "potential": flat[6 * nb + 1], "violation": flat[6 * nb + 2],
-                "reactions": flat[o:o + 6 * nj].reshape(nj, 6),
-                "coordinates": flat[o + 6 * nj:o + 6 * nj + 2 * nc].reshape(nc, 2),
-                "spring_forces": flat[o + 6 * nj + 2 * nc:]}
+        return {"displacement": 0, "kinetic": 6 * nb, "potential": 6 * nb + 1, "violation": 6 * nb + 2,
+                "reactions": o, "coordinates": o + 6 * nj, "spring_forces": o + 6 * nj + 2 * nc}
 
     def set_pto_commands(self, stiffness, damping, force, defer: bool = False) -> None:
         """New PTO law parameters (stiffness, damping, force command per PTO); a change restarts the formulation,
@@ -244,15 +253,10 @@ class MultibodySimulator:
         potential energy, constraint violation, joints' reactions (J, 6: force, moment), compiled coordinates'
         values and rates (S, 2), compiled springs' forces (E,) (:func:`mbd_fmu.kernels.outputs`), the energy
         balance and the PTOs' (coordinate from neutral, rate, force, absorbed power) (P, 4)."""
-        m, f = self.model, self.formulation
-        cm = f.compiled
-        at = f._offsets(len(self.ptos))
-        nb, nj = m.N, len(m.joints)
+        at = self.formulation._offsets(len(self.ptos))
         o = int(at[11])
-        return {"r": int(at[2]), "v": int(at[4]), "energy": int(at[7]), "displacement": o, "kinetic": o + 6 * nb,
-                "potential": o + 6 * nb + 1, "violation": o + 6 * nb + 2, "reactions": o + 6 * nb + 3,
-                "coordinates": o + 6 * nb + 3 + 6 * nj, "balance": int(at[12]), "pto": int(at[12]) + 1,
-                "spring_forces": o + 6 * nb + 3 + 6 * nj + 2 * len(cm.coordinates)}
+        return {"r": int(at[2]), "v": int(at[4]), "energy": int(at[7]), "balance": int(at[12]), "pto": int(at[12]) + 1,
+                **{key: o + k for key, k in self._outputs_offsets().items()}}
 
     def displacement(self, d: np.ndarray | None = None) -> np.ndarray:
         """x on the model's coordinates: (n,), from the bodies' displacements ``d`` (N, 6) if already known."""
