@@ -28,8 +28,9 @@ import os
 
 import numpy as np
 
+from fmu_base._jit import AVAILABLE
+
 from . import kernels
-from ._jit import AVAILABLE
 from .coordinates import Angle, Distance, RotationComponent, Slide
 from .force_elements import CoordinateSpringDamper, CoulombFriction, Rope
 from .model import MultibodyModel

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from ._jit import njit
+from fmu_base._jit import njit
 
 # ---------------------------------------------------------------------------------------------- plan packing
 # The plan travels as two flat arrays (ints, floats): numba types a tuple of 24 arrays in Python at every

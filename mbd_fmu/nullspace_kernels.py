@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._jit import njit
+from fmu_base._jit import njit
+
 from .kernels import (
     _local_rate,
     acceleration,
