@@ -1,7 +1,7 @@
 """First run on a fresh machine: CPU time of a whole ``wec-cosim run`` with an empty cache, then warm.
 
 The compiled multibody kernels (numba) are compiled at the first call of each entry point and cached
-on disk (mbd_fmu/_jit.py: ``$WEC_COSIM_CACHE/numba``, keyed on the kernels' source); the FMUs are
+on disk (fmu_base/_jit.py: ``$WEC_COSIM_CACHE/numba``, keyed on the kernels' source); the FMUs are
 built once into ``$WEC_COSIM_CACHE/fmus``. This benchmark runs each scene twice in a fresh process
 with a fresh, empty ``WEC_COSIM_CACHE``: the first run pays for the FMU builds and every compilation
 the scene needs, the second loads both from the cache. Figures: user + system CPU seconds of the

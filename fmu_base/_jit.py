@@ -1,23 +1,84 @@
-"""numba's ``njit`` with an on-disk cache that survives the FMU's extraction folder.
+"""numba's ``njit`` with an on-disk cache that survives the FMU's extraction folder (shared by every FMU package).
 
 An FMU runs its Python sources from a fresh temporary folder every time it is instantiated; numba's
 own cache locators key the cache on the source file's *directory*, so every run would recompile
 the kernels (several seconds). The locator below keys it on the source file's *content* instead,
 in ``$WEC_COSIM_CACHE/numba`` (default ``~/.cache/wec-cosim/numba``): the same sources, wherever they
-are, load the compiled machine code in tens of milliseconds. A kernel module other than ``kernels.py``
-(``nullspace_kernels.py``) compiles ``kernels.py``'s functions into its own machine code, so its key
-covers both files' content. Caches of other source versions unused for
-30 days are removed. If numba is not installed, or the cache
-folder cannot be written, :data:`AVAILABLE` tells the callers (the model then runs on its Python path,
-or numba compiles in memory).
+are, load the compiled machine code in tens of milliseconds.
+
+Which modules: any module of the toolkit's FMU packages (:data:`PACKAGES`: ``mbd_fmu``, ``hydro_fmu``, ...)
+that compiles functions with :func:`njit`. Its key covers its own content and the content of every module of
+those packages it imports, followed recursively (:func:`key_sources`): a kernel module that calls another
+module's kernels (``mbd_fmu/nullspace_kernels.py`` calls ``mbd_fmu/kernels.py``) compiles them into its own
+machine code, so its cache must follow them. Caches of other source versions unused for 30 days are removed.
+If numba is not installed, ``WEC_COSIM_NO_JIT`` is set, or the cache folder cannot be written,
+:data:`AVAILABLE` tells the callers (the models then run on their Python paths, or numba compiles in memory).
 """
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import os
 from collections.abc import Callable
 from pathlib import Path
+
+# Packages whose kernel modules get the content-keyed cache (each is bundled into its FMU with fmu_base).
+PACKAGES = ("mbd_fmu", "hydro_fmu", "fmu_base", "plain_mbd_fmu")
+
+
+def _imported_files(path: Path) -> list[Path]:
+    """Files of :data:`PACKAGES` that the module at ``path`` imports (relative imports within its package, and
+    absolute ``package.module`` imports resolved beside its package folder); those that do not exist are left
+    out."""
+    package = path.parent
+    found = []
+    for node in ast.walk(ast.parse(path.read_bytes(), filename=str(path))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level == 1:
+                base = package
+                parts = node.module.split(".") if node.module else []
+            elif node.level == 0 and node.module and node.module.split(".")[0] in PACKAGES:
+                base = package.parent
+                parts = node.module.split(".")
+            else:
+                continue
+            stems = [parts] if parts else []
+            stems += [parts + [alias.name] for alias in node.names]  # ``from . import kernels``
+        elif isinstance(node, ast.Import):
+            base = package.parent
+            stems = [a.name.split(".") for a in node.names if a.name.split(".")[0] in PACKAGES]
+        else:
+            continue
+        for stem in stems:
+            candidate = base.joinpath(*stem).with_suffix(".py") if stem else None
+            if candidate is not None and candidate.is_file():
+                found.append(candidate.resolve())
+    return found
+
+
+def key_sources(py_file: str | Path) -> list[Path]:
+    """The module at ``py_file`` and every module of :data:`PACKAGES` it imports, recursively, in a fixed order
+    (the module first, then by path relative to its package's parent): what its cache key covers."""
+    first = Path(py_file).resolve()
+    seen, todo = {first}, [first]
+    while todo:
+        for other in _imported_files(todo.pop()):
+            if other not in seen:
+                seen.add(other)
+                todo.append(other)
+    root = first.parent.parent
+    rest = sorted(seen - {first}, key=lambda p: str(p.relative_to(root)) if p.is_relative_to(root) else str(p))
+    return [first, *rest]
+
+
+def source_stamp(py_file: str | Path) -> str:
+    """Hash of the content of :func:`key_sources` (each file's package-relative name and bytes)."""
+    digest = hashlib.sha256()
+    for path in key_sources(py_file):
+        digest.update(f"{path.parent.name}/{path.name}\0".encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:20]
 
 
 def cache_root() -> Path:
@@ -40,12 +101,8 @@ try:
         """Cache keyed on the kernel module's file content, not its location."""
 
         def __init__(self, py_file: str) -> None:
-            data = Path(py_file).read_bytes()
-            base = Path(py_file).with_name("kernels.py")
-            if base != Path(py_file) and base.is_file():  # another module's kernels call these: their machine code
-                data += base.read_bytes()  # is compiled into that module's cache, which must follow them
-            self._stamp = hashlib.sha256(data).hexdigest()[:20]
-            self._path = str(cache_root() / f"{Path(py_file).stem}-{self._stamp}")
+            self._stamp = source_stamp(py_file)  # the module and the package modules it imports (their kernels)
+            self._path = str(cache_root() / f"{Path(py_file).parent.name}.{Path(py_file).stem}-{self._stamp}")
 
         def get_cache_path(self) -> str:
             return self._path
@@ -58,13 +115,13 @@ try:
 
         @classmethod
         def from_function(cls, py_func, py_file):
-            if Path(py_file).parent.name != "mbd_fmu" or not os.path.isfile(py_file):
+            if Path(py_file).parent.name not in PACKAGES or not os.path.isfile(py_file):
                 return None
             try:
                 locator = cls(py_file)
                 locator.ensure_cache_path()
                 _prune(Path(locator._path))
-            except OSError:
+            except (OSError, SyntaxError, ValueError):
                 return None
             return locator
 

@@ -29,14 +29,20 @@ from .drag import ViscousCoefficients, ViscousForce
 from .excitation import ExcitationConvolution, ExcitationForce
 from .hdb import DOF_NAMES, HydroDatabase
 from .hydrostatics import LinearHydrostatics
+from .kernels import COMPILED, RADIATION_CONVOLUTION, RADIATION_GIVEN, RADIATION_NONE, point_outputs
 from .linearisation import AffineForce, CouplingPattern, MemoryRate
 from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
 from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
 from .waves import PhasorClock, Ramp, WaveComponents
+from .work import WorkAccount
 
 RADIATION_METHODS = ("convolution", "state_space")
+# Arguments of the compiled pass for the parts a model does not have (never read there)
+_NO_VECTOR = np.zeros(0)
+_NO_MATRIX = np.zeros((2, 0))
+_NO_ROWS = np.zeros(0, dtype=np.intp)
 FORCE_ROWS = ("total", "excitation", "radiation", "hydrostatic", "viscous")  # rows of HydroModel.block
 EXCITATION_METHODS = ("superposition", "convolution")
 
@@ -343,6 +349,47 @@ class HydroModel:
                 exc += fk
         np.sum(block[1:], axis=0, out=block[0])  # ((exc + rad) + hs) + visc, as forces()
         return eta
+
+    @property
+    def compiled(self) -> bool:
+        """Whether :meth:`outputs` runs the compiled pass (:func:`hydro_fmu.kernels.point_outputs`): numba
+        available and a linear model whose excitation and elevation are the components' superposition."""
+        return COMPILED and self._phasor_table is not None and not self.nonlinear
+
+    def outputs(self, t: float, x: np.ndarray, v: np.ndarray, rows: np.ndarray, out: np.ndarray,
+                power: np.ndarray, account: WorkAccount, energy: np.ndarray) -> float:
+        """Everything the FMU publishes at time ``t`` (s) for ``x``, ``v``: the force components into
+        :attr:`block` (as :meth:`evaluate`), its rows ``rows`` copied into the rows of ``out``, the power of each
+        component (W, :data:`hydro_fmu.work.COMPONENTS` order) into ``power`` and the work at ``t`` (J) from
+        ``account`` into ``energy``; returns the wave elevation at the origin (m).
+
+        One compiled call (:mod:`hydro_fmu.kernels`) when :attr:`compiled`; else :meth:`evaluate` and numpy.
+        Both give the values of :meth:`forces`, :meth:`elevation` and :class:`hydro_fmu.work.WorkAccount` to
+        round-off (tests/test_hydro_fast_path.py).
+        """
+        if not self.compiled:
+            eta = self.evaluate(t, x, v)
+            np.take(self.block, rows, axis=0, out=out)
+            np.dot(self.block[1:], v, out=power)  # COMPONENTS order: the block's rows after the total
+            account.value(t, power, out=energy)
+            return eta
+        rad = self.radiation
+        mode, ring, last, current, gap, weights = RADIATION_NONE, _NO_MATRIX, _NO_VECTOR, 0, 1, _NO_MATRIX
+        if isinstance(rad, RadiationMemory):
+            mode, ring, last, current, gap, weights = (RADIATION_CONVOLUTION, rad._ring, rad._last,
+                                                       rad.steps - 1 + rad.gap, rad.gap, rad._all)
+        elif rad is not None:
+            mode = RADIATION_GIVEN
+            rad.force(v, out=self.block[2])
+        visc = self.viscous
+        hydrostatics = self.switches.hydrostatics
+        last_power = account.last_power
+        return point_outputs(float(t), self._clock(t), self._phasor_table, self.ramp.duration, mode, ring, last,
+                             current, gap, weights, hydrostatics, self._restoring if hydrostatics else _NO_MATRIX,
+                             visc is not None, _NO_VECTOR if visc is None else visc.linear,
+                             _NO_VECTOR if visc is None else visc.quadratic, x, v, self.block, rows, out, power,
+                             account.committed, _NO_VECTOR if last_power is None else last_power,
+                             account.last_time, last_power is not None, energy)
 
     def affine(self, t: float, x: np.ndarray, v: np.ndarray, pattern: CouplingPattern,
                forces: HydroForces | None = None) -> AffineForce:

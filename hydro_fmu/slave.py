@@ -107,6 +107,8 @@ class HydroSlave(VectorSlave):
         self._register_parameters()
         self._register_body_variables()
         self._force_outputs = self._force_output_map()
+        self._x, self._v = self.array("x"), self.array("v")
+        self._elevation, self._energy = self.array("wave.elevation"), self.array("energy")
         self._affine_fresh = False
         self._register_coupling()
         self._register_added_mass()
@@ -171,11 +173,11 @@ class HydroSlave(VectorSlave):
                 self.add_reals(key, names(key), causality, zeros, unit=[table[d] for d in all_dofs],
                                description=desc, depends_on=deps)
 
-    def _force_output_map(self) -> tuple[list[int], np.ndarray | list[np.ndarray]]:
+    def _force_output_map(self) -> tuple[np.ndarray, np.ndarray | list[np.ndarray]]:
         """(rows of HydroModel.block, where they go): the force outputs that exist, as one stacked view of
         the value store when they are adjacent there (one copy per point), else one array each."""
         keys = [k for k in ("F", "F_exc", "F_rad", "F_hs", "F_visc") if k in self._arrays]
-        rows = [("F", "F_exc", "F_rad", "F_hs", "F_visc").index(k) for k in keys]
+        rows = np.array([("F", "F_exc", "F_rad", "F_hs", "F_visc").index(k) for k in keys], dtype=np.intp)
         stacked = self.stacked(keys)
         return rows, stacked if stacked is not None else [self.array(k) for k in keys]
 
@@ -290,22 +292,19 @@ class HydroSlave(VectorSlave):
         self.mark_outputs_stale()
 
     def update_outputs(self) -> None:
-        """Every output of the current point in one pass (:meth:`HydroModel.evaluate` into the model's force
-        block, then copied into the output variables; powers and work from the same block)."""
-        assert self.model is not None
-        model = self.model
-        v = self.array("v")
-        eta = model.evaluate(self.time, self.array("x"), v)
-        self._affine_fresh = False
+        """Every output of the current point in one pass (:meth:`HydroModel.outputs`: forces, their copy into the
+        output variables, powers and work; one compiled call for a linear model)."""
         rows, outputs = self._force_outputs
+        self._affine_fresh = False
         if isinstance(outputs, np.ndarray):
-            np.take(model.block, rows, axis=0, out=outputs)
-        else:
-            for row, out in zip(rows, outputs, strict=True):
-                out[:] = model.block[row]
-        self.array("wave.elevation")[0] = eta
-        np.dot(model.block[1:], v, out=self._power)  # COMPONENTS order: the block's rows after the total
-        self.work.value(self.time, self._power, out=self.array("energy"))
+            self._elevation[0] = self.model.outputs(self.time, self._x, self._v, rows, outputs, self._power,
+                                                    self.work, self._energy)
+            return
+        block = np.zeros((len(rows), len(self._v)))  # outputs not adjacent in the store: copied one by one
+        self._elevation[0] = self.model.outputs(self.time, self._x, self._v, rows, block, self._power, self.work,
+                                                self._energy)
+        for row, out in zip(block, outputs, strict=True):
+            out[:] = row
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Outputs of the current point; the linearised force interface's (F0, F0_rate, dF_dx, dF_dv) only when a

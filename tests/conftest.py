@@ -14,9 +14,9 @@ SCENARIOS = ROOT / "scenarios"
 @pytest.fixture(scope="session", autouse=True)
 def private_fmu_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """FMUs built by the tests go to a temporary cache, not the user's. The compiled multibody kernels stay in the
-    numba cache this process already uses (``WEC_COSIM_NUMBA_CACHE``, mbd_fmu/_jit.py), so the FMUs and host
+    numba cache this process already uses (``WEC_COSIM_NUMBA_CACHE``, fmu_base/_jit.py), so the FMUs and host
     processes the tests start load them instead of each compiling them again (minutes of CPU on a fresh clone)."""
-    from mbd_fmu._jit import cache_root
+    from fmu_base._jit import cache_root
 
     path = tmp_path_factory.mktemp("fmu_cache")
     saved = {key: os.environ.get(key) for key in ("WEC_COSIM_CACHE", "WEC_COSIM_NUMBA_CACHE")}

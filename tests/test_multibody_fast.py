@@ -219,7 +219,7 @@ def test_null_space_kernels_cache_follows_the_kernels_they_call(tmp_path, monkey
     """nullspace_kernels.py compiles kernels.py's functions into its own cached machine code: its cache key changes
     when kernels.py changes (else a stale cache would run old kernel code on a new plan layout); kernels.py's own
     key does not depend on nullspace_kernels.py."""
-    from mbd_fmu import _jit
+    from fmu_base import _jit
 
     if not _jit.AVAILABLE:
         pytest.skip("numba not installed")
