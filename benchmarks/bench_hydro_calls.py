@@ -78,6 +78,7 @@ def main() -> None:
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--base", default="main", help="git revision to compare with (default main)")
+    p.add_argument("--this", default="", help="git revision to measure (default: this working tree as it is)")
     p.add_argument("--scenarios", default=",".join(DEFAULT_SCENARIOS),
                    help="comma-separated scenario names, each optionally with :seconds")
     p.add_argument("--duration", type=float, default=20.0, help="simulated seconds per run")
@@ -89,27 +90,31 @@ def main() -> None:
         child(args.child[0], float(args.child[1]))
         return
     git = lambda *a: subprocess.run(["git", *a], capture_output=True, text=True, cwd=ROOT, check=True).stdout.strip()  # noqa: E731
-    head, base = git("rev-parse", "--short", "HEAD"), git("rev-parse", "--short", args.base)
+    head, base = git("rev-parse", "--short", args.this or "HEAD"), git("rev-parse", "--short", args.base)
     lines = [f"# command: python benchmarks/bench_hydro_calls.py {' '.join(sys.argv[1:])}".rstrip(),
              f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
              f"{platform.python_version()}; load average at start {' '.join(f'{x:.2f}' for x in os.getloadavg())}",
-             f"# this tree: git {head}{' (with uncommitted changes)' if git('status', '--porcelain') else ''}; "
+             f"# this tree: git {head}{' (with uncommitted changes)' if not args.this and git('status', '--porcelain') else ''}; "
              f"base: {args.base} = {base}; minimum over {args.repeats} alternating runs (default {args.duration:g} s) "
              "(each run: the better of two passes), microseconds per macro step through fmpy",
              "# rows 'cpu': the calling thread's CPU time in the same calls (less sensitive to other processes)",
              "", f"{'scenario':<20}{'tree':<9}{'hydro set':>10}{'step':>8}{'get':>8}{'sum':>8}"
              f"{'mbd set':>9}{'step':>8}{'get':>8}{'loop':>9}"]
     with tempfile.TemporaryDirectory() as tmp:
-        base_tree = Path(tmp) / "base"
-        base_tree.mkdir()
-        archive = subprocess.run(["git", "archive", args.base], capture_output=True, cwd=ROOT, check=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(base_tree)], input=archive, check=True)
+        trees = {}
+        for label, rev in (("base", args.base), ("this", args.this)):
+            trees[label] = ROOT
+            if rev:  # a revision's sources, as they are in git
+                trees[label] = Path(tmp) / label
+                trees[label].mkdir()
+                archive = subprocess.run(["git", "archive", rev], capture_output=True, cwd=ROOT, check=True).stdout
+                subprocess.run(["tar", "-x", "-C", str(trees[label])], input=archive, check=True)
         for item in args.scenarios.split(","):
             scenario, _, seconds = item.partition(":")
             duration = float(seconds) if seconds else args.duration
             results: dict[str, dict[str, float]] = {}
             for _ in range(args.repeats):
-                for label, tree in (("base", base_tree), ("this", ROOT)):
+                for label, tree in trees.items():
                     row = run_tree(tree, scenario, duration)
                     old = results.get(label)
                     results[label] = row if old is None else {k: min(v, old.get(k, v)) for k, v in row.items()}
