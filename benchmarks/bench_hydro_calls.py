@@ -91,10 +91,11 @@ def main() -> None:
         return
     git = lambda *a: subprocess.run(["git", *a], capture_output=True, text=True, cwd=ROOT, check=True).stdout.strip()  # noqa: E731
     head, base = git("rev-parse", "--short", args.this or "HEAD"), git("rev-parse", "--short", args.base)
+    dirty = not args.this and git("status", "--porcelain")
     lines = [f"# command: python benchmarks/bench_hydro_calls.py {' '.join(sys.argv[1:])}".rstrip(),
              f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
              f"{platform.python_version()}; load average at start {' '.join(f'{x:.2f}' for x in os.getloadavg())}",
-             f"# this tree: git {head}{' (with uncommitted changes)' if not args.this and git('status', '--porcelain') else ''}; "
+             f"# this tree: git {head}{' (with uncommitted changes)' if dirty else ''}; "
              f"base: {args.base} = {base}; minimum over {args.repeats} alternating runs (default {args.duration:g} s) "
              "(each run: the better of two passes), microseconds per macro step through fmpy",
              "# rows 'cpu': the calling thread's CPU time in the same calls (less sensitive to other processes)",

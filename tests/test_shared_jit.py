@@ -1,0 +1,136 @@
+"""The shared numba cache locator (fmu_base/_jit.py) and the hydro FMU's compiled pass without numba.
+
+The locator keys each kernel module's cache on its content and on the content of the toolkit modules it imports
+(a module that calls another's kernels compiles them into its own machine code); FMUs run their sources from a
+fresh folder each time, so the same sources elsewhere must load the cache, not compile again. Without numba
+(or with ``WEC_COSIM_NO_JIT``) the hydro model takes its numpy path and gives the reference forces.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from fmu_base import _jit
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _package(folder: Path, files: dict[str, str]) -> None:
+    for name, text in files.items():
+        path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+
+
+def test_cache_key_covers_the_package_modules_a_kernel_module_imports(tmp_path: Path, monkeypatch) -> None:
+    """A kernel module's key changes with every toolkit module it imports (relative, ``from . import``, absolute,
+    recursively), not with a module it does not import; modules outside the FMU packages get no locator."""
+    files = {"hydro_fmu/kernels.py": "from fmu_base._jit import njit\nfrom .helper import f\nfrom . import other\n",
+             "hydro_fmu/helper.py": "from hydro_fmu.deep import g\nf = 1\n",
+             "hydro_fmu/deep.py": "g = 2\n", "hydro_fmu/other.py": "h = 3\n", "hydro_fmu/unrelated.py": "u = 4\n",
+             "fmu_base/_jit.py": "njit = None\n", "elsewhere/kernels.py": "x = 1\n"}
+    _package(tmp_path, files)
+    kernels = tmp_path / "hydro_fmu" / "kernels.py"
+    names = [str(p.relative_to(tmp_path.resolve())) for p in _jit.key_sources(kernels)]
+    assert names[0] == "hydro_fmu/kernels.py"
+    assert sorted(names[1:]) == ["fmu_base/_jit.py", "hydro_fmu/deep.py", "hydro_fmu/helper.py", "hydro_fmu/other.py"]
+    stamp = _jit.source_stamp(kernels)
+    for name in ("hydro_fmu/deep.py", "hydro_fmu/other.py", "fmu_base/_jit.py", "hydro_fmu/kernels.py"):
+        with open(tmp_path / name, "a") as fh:
+            fh.write("# changed\n")
+        new = _jit.source_stamp(kernels)
+        assert new != stamp, name
+        stamp = new
+    with open(tmp_path / "hydro_fmu" / "unrelated.py", "a") as fh:
+        fh.write("# changed\n")
+    assert _jit.source_stamp(kernels) == stamp
+    if _jit.AVAILABLE:
+        monkeypatch.setenv("WEC_COSIM_NUMBA_CACHE", str(tmp_path / "cache"))
+        locator = _jit._ContentLocator.from_function(None, str(kernels))
+        assert locator is not None and Path(locator.get_cache_path()).name == f"hydro_fmu.kernels-{stamp}"
+        assert _jit._ContentLocator.from_function(None, str(tmp_path / "elsewhere" / "kernels.py")) is None
+
+
+def test_hydro_kernels_are_reused_from_the_cache_by_sources_in_another_folder(tmp_path: Path) -> None:
+    """hydro_fmu/kernels.py run from two extraction folders: the first compiles into a content-keyed cache entry,
+    the second loads it (no new entries), and both give the same answer."""
+    if not _jit.AVAILABLE:
+        pytest.skip("numba not installed")
+    cache = tmp_path / "cache"
+    script = ("import numpy as np, sys; sys.path.insert(0, sys.argv[1]); import hydro_fmu.kernels as k;"
+              "assert k.__file__.startswith(sys.argv[1]), k.__file__;"
+              "ring = np.zeros((8, 2)); k.write_pending(ring, np.array([1.0, 2.0]), np.array([3.0, 5.0]), 6, 3);"
+              "import json; print(json.dumps(ring.tolist()))")
+    env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
+    env.pop("WEC_COSIM_NO_JIT", None)
+    env.pop("WEC_COSIM_NUMBA_CACHE", None)
+    outputs, entries = [], []
+    for name in ("first", "second"):
+        folder = tmp_path / name
+        for package in ("hydro_fmu", "fmu_base"):
+            shutil.copytree(ROOT / package, folder / package, ignore=shutil.ignore_patterns("__pycache__"))
+        proc = subprocess.run([sys.executable, "-c", script, str(folder)], capture_output=True, text=True, env=env,
+                              timeout=600)
+        assert proc.returncode == 0, proc.stderr
+        outputs.append(proc.stdout)
+        entries.append(sorted(str(p.relative_to(cache)) for p in (cache / "numba").rglob("*") if p.is_file()))
+    # grid points 4, 5, 6 (rows 0, 1, 2 and 4, 5, 6 of the 4-row ring): 1/3 and 2/3 of the way, then v itself
+    expected = [[3 + 2 / 3 * (1 - 3), 5 + 2 / 3 * (2 - 5)], [3 + 1 / 3 * (1 - 3), 5 + 1 / 3 * (2 - 5)], [3.0, 5.0]]
+    ring = json.loads(outputs[0])
+    assert ring[0:3] == ring[4:7] and ring[3] == ring[7] == [0.0, 0.0]
+    for row, want in zip(ring[0:3], expected, strict=True):
+        assert row == pytest.approx(want, rel=1e-15)
+    assert outputs[0] == outputs[1]
+    assert any(e.startswith("numba/hydro_fmu.kernels-") and e.endswith(".nbi") for e in entries[0])
+    assert entries[1] == entries[0]
+
+
+CHECK_REFERENCE = """
+import copy, sys
+import numpy as np
+if sys.argv[1] == "blocked":
+    sys.modules["numba"] = None  # import numba raises ImportError, as when it is not installed
+from fmu_base import _jit
+from hydro_fmu import kernels
+from hydro_fmu.model import FORCE_ROWS
+from hydro_fmu.work import WorkAccount
+from orchestrator.scenario import load_scenario
+from orchestrator.scene import load_scene
+assert not _jit.AVAILABLE and not kernels.COMPILED
+model = load_scene(load_scenario(sys.argv[2]), log=None).hydro_model()
+assert not model.compiled
+ref = copy.deepcopy(model)
+rows = np.arange(len(FORCE_ROWS)); out = np.zeros((len(rows), model.n)); p = np.zeros(4); e = np.zeros(4)
+account = WorkAccount()
+worst = 0.0
+for k in range(100):
+    t = 0.02 * k
+    v = 0.2 * np.sin(0.9 * t + np.arange(model.n)); x = 0.1 * np.cos(0.4 * t + np.arange(model.n))
+    model.outputs(t, x, v, rows, out, p, account, e)
+    f = ref.forces(t, x, v)
+    worst = max(worst, float(np.abs(out - np.array([getattr(f, r) for r in FORCE_ROWS])).max()))
+    account.commit(t, p); model.advance(t, 0.02, v); ref.advance(t, 0.02, v)
+print(worst, float(np.abs(out).max()))
+"""
+
+
+@pytest.mark.parametrize("how", ["blocked", "environment"])
+def test_without_numba_the_hydro_model_takes_its_numpy_path(how: str) -> None:
+    """numba not installed (its import blocked) or WEC_COSIM_NO_JIT set: no compiled pass, the same forces as the
+    reference path (hinge barge, 100 points)."""
+    env = dict(os.environ)
+    env.pop("WEC_COSIM_NO_JIT", None)
+    if how == "environment":
+        env["WEC_COSIM_NO_JIT"] = "1"
+    proc = subprocess.run([sys.executable, "-c", CHECK_REFERENCE, how, str(ROOT / "scenarios" / "hinge_barge.toml")],
+                          capture_output=True, text=True, env=env, timeout=600, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    worst, scale = map(float, proc.stdout.split())
+    assert scale > 0 and worst <= 1e-12 * scale
