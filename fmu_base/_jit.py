@@ -145,13 +145,18 @@ try:
     if _ContentLocator.__name__ not in {c.__name__ for c in caching.CacheImpl._locator_classes}:
         caching.CacheImpl._locator_classes.insert(0, _ContentLocator)
 
-    def njit(func: Callable) -> Callable:
-        """Compiled, cached, numpy error semantics (division by zero gives inf/nan as in the Python path)."""
-        return numba.njit(cache=True, error_model="numpy")(func)
+    def njit(func: Callable | None = None, *, reassociate: bool = False) -> Callable:
+        """Compiled, cached, numpy error semantics (division by zero gives inf/nan as in the Python path).
+        ``reassociate``: let the compiler reorder floating-point sums (vectorised reductions; NaN and inf keep
+        their meaning, the result changes at round-off). Use as ``@njit`` or ``@njit(reassociate=True)``."""
+        options = {"fastmath": {"reassoc", "contract"}} if reassociate else {}
+        if func is None:
+            return lambda f: numba.njit(cache=True, error_model="numpy", **options)(f)
+        return numba.njit(cache=True, error_model="numpy", **options)(func)
 
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency; this keeps the Python path usable without it
     AVAILABLE = False
 
-    def njit(func: Callable) -> Callable:
-        return func
+    def njit(func: Callable | None = None, *, reassociate: bool = False) -> Callable:
+        return func if func is not None else (lambda f: f)

@@ -57,14 +57,21 @@ def write_pending(ring: np.ndarray, last: np.ndarray, v: np.ndarray, current: in
             ring[row + m, i] = value
 
 
-@njit
+@njit(reassociate=True)
 def memory(weights: np.ndarray, ring: np.ndarray, start: int, out: np.ndarray) -> None:
     """The convolution sum ``out`` (n,) = ``weights`` (n, m n) times the window ring[start : start + m] (m, n) of
-    velocities at lags m-1 .. 0 (oldest first), flattened: one BLAS matrix-vector product (dgemv), as
-    RadiationMemory.force (a loop compiled here ran 2-5x slower: the sum is bound by reading the weights)."""
+    velocities at lags m-1 .. 0 (oldest first), flattened: one dot product per output, vectorised (the sums
+    reassociated). A loop in this thread: BLAS splits a product this size over threads, whose wake-up costs
+    more than the product when the process runs other work between points (the multibody FMU)."""
     m = ring.shape[0] // 2
     n = ring.shape[1]
-    np.dot(weights, ring[start : start + m].reshape(m * n), out)
+    window = ring[start : start + m].reshape(m * n)
+    for i in range(out.shape[0]):
+        row = weights[i]
+        s = 0.0
+        for k in range(m * n):
+            s += row[k] * window[k]
+        out[i] = s
 
 
 @njit

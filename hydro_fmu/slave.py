@@ -311,10 +311,12 @@ class HydroSlave(VectorSlave):
         host reads them (a master using the plain force ``F`` does not pay for them). Its memory rate is the
         backward difference between the last two points where it was read (every point for a host that reads
         it at every step, as the interface expects)."""
-        self.refresh_outputs()
+        if self._outputs_stale and self._ready:  # refresh_outputs(), inlined: this runs at every step
+            self.update_outputs()
+            self._outputs_stale = False
         if self.pattern is not None and self._ready and not self._affine_fresh and not self._affine_vrs.isdisjoint(vrs):
             self._update_affine()
-        return super().get_real(vrs)
+        return self._values.gather(vrs)
 
     def _update_affine(self) -> None:
         forces = HydroForces(*self.model.block.copy())  # this point's (refresh_outputs ran first)
@@ -329,9 +331,9 @@ class HydroSlave(VectorSlave):
         if self._outputs_stale:  # the power at this point (its inputs set, outputs maybe not read)
             self.update_outputs()
             self._outputs_stale = False
-        self.work.commit(self.time, self._power)  # the FMU's own clock (below)
+        self.work.commit(self.time, self._power, self._energy)  # the FMU's own clock (below); work at this point
         try:
-            self.model.advance(current_time, step_size, self.array("v"))  # the memories copy what they keep
+            self.model.advance(current_time, step_size, self._v)  # the memories copy what they keep
         except ValueError as exc:
             self.log(str(exc), Fmi2Status.error)
             return False

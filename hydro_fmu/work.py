@@ -51,7 +51,8 @@ class WorkAccount:
         out += self.committed
         return out
 
-    def commit(self, t: float, power: np.ndarray) -> None:
-        """Accept the point ``t`` (the start of the next step)."""
-        self.committed = self.value(t, power)
-        self.last_time, self.last_power = float(t), np.asarray(power, float).copy()
+    def commit(self, t: float, power: np.ndarray, work: np.ndarray | None = None) -> None:
+        """Accept the point ``t`` (the start of the next step); ``work``: :meth:`value` ``(t, power)`` if already
+        computed (copied)."""
+        self.committed = self.value(t, power) if work is None else np.array(work, dtype=float)
+        self.last_time, self.last_power = float(t), np.array(power, dtype=float)
