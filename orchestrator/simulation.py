@@ -79,6 +79,16 @@ class Recorder:
             dest += [start + k for k in (range(len(out)) if cols is None else cols.tolist())]
         self._gather = {c: (np.array(s, dtype=np.intp), np.array(d, dtype=np.intp)) for c, (s, d) in gather.items()}
         self._energy = {name: layout[name][0].start for name in layout if name.startswith("energy/")}
+        self._balance = self._wave_balance_weights() if self.wave_balance else None
+
+    def _wave_balance_weights(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """(column, term columns, weights): :func:`wave_balance` is a linear combination of the energy terms,
+        so its weights are its values on unit rows; one dot product per row then evaluates it."""
+        names = list(self._energy)
+        weights = np.array([wave_balance({n: float(n == m) for n in names}) for m in names])
+        used = np.flatnonzero(weights)
+        columns = np.array([self._energy[names[k]] for k in used], dtype=np.intp)
+        return self._energy["energy/wave_balance"], columns, weights[used]
 
     @staticmethod
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
@@ -137,8 +147,9 @@ class Recorder:
         row[0] = t
         for comp, (src, dest) in self._gather.items():
             row[dest] = outputs[comp][src]
-        if self.wave_balance:
-            row[self._energy["energy/wave_balance"]] = wave_balance({k: row[c] for k, c in self._energy.items()})
+        if self._balance is not None:
+            column, terms, weights = self._balance
+            row[column] = weights @ row[terms]
         return row
 
 
