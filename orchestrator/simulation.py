@@ -418,6 +418,7 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
         plan.master.terminate()
         raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
                             "run the simulation again")
+    _check_same_build(results, stored.get("fmus", {}), plan)
     # Restore first: a checkpoint that cannot be used leaves the results file as it was.
     try:
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
@@ -439,6 +440,21 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
+
+
+def _check_same_build(results: Path, built: dict[str, str], plan: RunPlan) -> None:
+    """Refuse a checkpoint whose FMUs were built from other sources than this version builds for the same
+    scenario (the FMU file name carries the build key: sources, PythonFMU, specification, data): an FMU
+    state is the private data of the build that wrote it and need not fit another one."""
+    now = plan.settings.get("fmus", {})
+    for kind, path in now.items():
+        if kind in built and Path(built[kind]).name != Path(path).name:
+            plan.master.terminate()
+            raise WecCosimError(
+                f"{checkpoint_path(results)}: the run was started by another build of the {kind} FMU "
+                f"({Path(built[kind]).name}; this version builds {Path(path).name}: the sources or PythonFMU "
+                f"changed since), and an FMU state need not fit another build; resume with the version that "
+                f"started the run, or run the simulation again. {results} is unchanged")
 
 
 def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: bool,
