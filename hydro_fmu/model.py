@@ -384,12 +384,12 @@ class HydroModel:
         visc = self.viscous
         hydrostatics = self.switches.hydrostatics
         last_power = account.last_power
-        return point_outputs(float(t), self._clock(t), self._phasor_table, self.ramp.duration, mode, ring, last,
+        return point_outputs(float(t), self._clock(t), self._phasor_table, float(self.ramp.duration), mode, ring, last,
                              current, gap, weights, hydrostatics, self._restoring if hydrostatics else _NO_MATRIX,
                              visc is not None, _NO_VECTOR if visc is None else visc.linear,
                              _NO_VECTOR if visc is None else visc.quadratic, x, v, self.block, rows, out, power,
                              account.committed, _NO_VECTOR if last_power is None else last_power,
-                             account.last_time, last_power is not None, energy)
+                             float(account.last_time), last_power is not None, energy)
 
     def affine(self, t: float, x: np.ndarray, v: np.ndarray, pattern: CouplingPattern,
                forces: HydroForces | None = None) -> AffineForce:
