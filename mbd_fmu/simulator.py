@@ -141,13 +141,13 @@ class MultibodySimulator:
         buffers = getattr(self, "_buffers", None)
         if buffers is None or not buffers.serves(f, cm, m.kept, self.eager_outputs):
             buffers = self._buffers = FusedBuffers(self)
-        energy = buffers.energy
-        energy[0], energy[1], energy[2], energy[3] = self.dissipated, self.work, self.pto_energy, self.energy0
         end = f.end_powers  # the powers now, from the step that led here (None after a restart or new commands)
         if not (consistent or changed) and end is not None and end[0] == f.steps:
-            energy[4], energy[5], energy[6] = self._powers  # the start powers: the kernel need not evaluate them
+            energy = buffers.energy  # with the start powers: the kernel need not evaluate them
+            energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0, *self._powers)
         else:
             energy = buffers.energy_sums
+            energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0)
         key = f._lu_key
         hs = h / n
         have = key is not None and key[0] == hs and (key[1] is m.kept or np.array_equal(key[1], m.kept))
@@ -156,11 +156,10 @@ class MultibodySimulator:
         status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
             ip, fp, pose.r, pose.R, f.v, vdot, vdot if f.a is None else f.a, f.lam, inputs, cm.refs, float(h), n,
             f._coef, float(settings.newton_tolerance), f.length, int(settings.max_iterations), f._lu, f._piv, have,
-            consistent, shift, 0.0 if mode == "acceleration" else buffers.delta, buffers.ptos, energy, buffers.out)
+            consistent, shift, 0.0 if mode == "acceleration" else buffers.delta, buffers.ptos, energy, buffers.target())
         if done == 0:
             if status != 0:
                 f._lu_key = None  # the factors may have been overwritten
-            self._outputs = None  # (the kept outputs may be views of the buffer the call wrote)
             return False
         self._commands_changed = False
         if changed:
@@ -172,13 +171,13 @@ class MultibodySimulator:
         for _ in range(done):
             f.t += hs
         f.steps += done
-        buffers.take(self)
+        outputs = buffers.take(self)
         if not keep:
             f._lu_key = None
         elif not have or key[1] is not m.kept:
             f._lu_key = (hs, m.kept)
         if done == n and self.eager_outputs:
-            self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), buffers.outputs)
+            self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), outputs)
         elif done == n:
             self._outputs = None  # computed when read (compiled_outputs)
         else:  # stopped early (rows to re-select, a substep that did not converge): the rest step by step
@@ -427,10 +426,10 @@ class MultibodySimulator:
 class FusedBuffers:
     """What :meth:`MultibodySimulator._advance_fused` keeps between macro steps for one formulation, compiled view,
     kept-row set and outputs choice: the layout of the fused call's output (:func:`mbd_fmu.kernels.macro_layout`),
-    the output buffer ``out`` the call writes, the ``state`` array the formulation's pose, v', lambda, v and a are
-    views of after a step (written in place by :meth:`take`: no new arrays per step), the energy argument, the PTOs'
-    spring positions and, with eager outputs, the named views of the outputs (:meth:`MultibodySimulator.
-    _split_outputs`).
+    two output buffers the calls write in turn (each call reads the state from the one the last call wrote: the
+    formulation's pose, v', lambda, v and a are views of it, so no new arrays per step and no copy; a call that fails
+    leaves the state untouched), the energy argument, the PTOs' spring positions and, with eager outputs, the named
+    views of each buffer's outputs (:meth:`MultibodySimulator._split_outputs`).
 
     Derived data, not state: a copy (deep copy, FMU state, checkpoint) is an empty instance that serves nothing,
     and the next step builds new buffers; the copied formulation's arrays are copies, not views of these."""
@@ -449,15 +448,15 @@ class FusedBuffers:
         if f._lu is None or f._lu.shape[0] != nn:
             f._lu, f._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
         self.delta = float(f.coef.alpha_m - f.coef.alpha_f)
-        self.out = np.empty(at[-1] if self.eager else at[11])
-        self.outputs = sim._split_outputs(self.out, at) if self.eager else None
-        # the state part of out: v', lambda, pose, v, a, angle references, energy sums, powers, springs' powers,
-        # row quality (a failed call writes out, never this)
-        s = self.state = np.empty(at[11])
         nb = m.N
-        self.vdot, self.lam, self.v, self.a = s[at[0]:at[1]], s[at[1]:at[2]], s[at[4]:at[5]], s[at[5]:at[6]]
-        self.pose = Pose(s[at[2]:at[3]].reshape(nb, 3), s[at[3]:at[4]].reshape(nb, 3, 3))
-        self.refs, self.springs = s[at[6]:at[7]], s[at[9]:at[10]]
+        self.sides = []
+        for _ in range(2):
+            out = np.empty(at[-1] if self.eager else at[11])
+            self.sides.append((out, out[at[0]:at[1]], out[at[1]:at[2]],
+                               Pose(out[at[2]:at[3]].reshape(nb, 3), out[at[3]:at[4]].reshape(nb, 3, 3)),
+                               out[at[4]:at[5]], out[at[5]:at[6]], out[at[6]:at[7]], out[at[9]:at[10]],
+                               sim._split_outputs(out, at) if self.eager else None))
+        self.written = 1  # the side the last call wrote (the next call writes the other)
         self.sums = slice(int(at[7]), int(at[7]) + 6)  # energy sums and powers (at[8] = at[7] + 3)
         self.quality = int(at[10])
         self.energy = np.zeros(7)  # energy sums, initial energy, start powers (the kernel's ``energy``)
@@ -472,16 +471,21 @@ class FusedBuffers:
     def serves(self, f: Index3, cm: object, kept: np.ndarray, eager: bool) -> bool:
         return f is self.formulation and cm is self.compiled and kept is self.kept and eager == self.eager
 
-    def take(self, sim: MultibodySimulator) -> None:
-        """The state the call reached (in ``out``) into the simulator and its formulation (``t`` and ``steps`` are
-        the caller's): v', lambda, pose, v, a as views of ``state`` (copied in place), the angle references'
-        commit, the row quality, the end powers, the energy sums."""
-        f, s = sim.formulation, self.state
-        s[:] = self.out[:s.shape[0]]
-        f.vdot, f.lam, f.pose, f.v, f.a = self.vdot, self.lam, self.pose, self.v, self.a
-        self.compiled.commit(self.refs)
-        f._quality = (f.steps, s.item(self.quality))
-        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = s[self.sums].tolist()
+    def target(self) -> np.ndarray:
+        """The buffer the next call writes: not the one the formulation's state is a view of."""
+        return self.sides[1 - self.written][0]
+
+    def take(self, sim: MultibodySimulator) -> dict | None:
+        """The state the call reached (in :meth:`target`) into the simulator and its formulation (``t`` and
+        ``steps`` are the caller's): v', lambda, pose, v, a as views of that buffer, the angle references' commit,
+        the row quality, the end powers, the energy sums; returns that buffer's named outputs (eager outputs)."""
+        self.written = w = 1 - self.written
+        f = sim.formulation
+        out, f.vdot, f.lam, f.pose, f.v, f.a, refs, springs, outputs = self.sides[w]
+        self.compiled.commit(refs)
+        f._quality = (f.steps, out.item(self.quality))
+        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = out[self.sums].tolist()
         sim._powers = (diss, supply, pto)
         # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
-        f.end_powers = (f.steps, diss, supply, self.springs)
+        f.end_powers = (f.steps, diss, supply, springs)
+        return outputs
