@@ -79,6 +79,7 @@ _PROJECT_PACKAGES = ("hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "fmu_base", "orche
 RESTORABLE = (
     "mbd_fmu.formulations:Factorized",  # the Newton iteration matrix, factorised and kept between steps
     "mbd_fmu.linear_system:ZeroOrderHoldStepper",  # exact discretisations, cached per step size and PTO law
+    "mbd_fmu.simulator:FusedBuffers",  # the fused macro step's buffers (saved empty: rebuilt at the next step)
     f"{csc_matrix.__module__}:{csc_matrix.__qualname__}",  # the matrix a sparse Factorized is rebuilt from
 )
 _CODE = (types.FunctionType, types.BuiltinFunctionType, types.MethodType, types.BuiltinMethodType,

@@ -270,8 +270,10 @@ class CompiledModel:
 
     def commit(self, refs: np.ndarray) -> None:
         """Angle references after an accepted step (what ``MultibodyModel.commit`` does on the Python path)."""
-        for s, c in self.angles:
-            c.reference = float(refs[s])
+        if self.angles:
+            values = refs.tolist()
+            for s, c in self.angles:
+                c.reference = values[s]
 
 
 def _body_blocks(pattern: np.ndarray, body: np.ndarray, count: int, n: int, r: int, kept: np.ndarray,

@@ -258,8 +258,7 @@ class Formulation:
             quality = self._kept_quality()
         else:
             quality = _row_quality(m.constraint(m.kin(self.pose, self.v, self.t), gamma=False).jac)
-        last = self._row_search
-        if quality >= 0.5 or (last is not None and quality >= 0.6 * last[1] and self.steps - last[0] < 1000):
+        if self.rows_hold(quality):
             return
         _, jf, _, _ = m.constraint_full(m.kin(self.pose, self.v, self.t), gamma=False)
         c = jf[:, m.sel]
@@ -271,6 +270,11 @@ class Formulation:
             m.kept = kept
             self.lam = np.linalg.lstsq(c[kept].T, force, rcond=None)[0]
             self.row_changes += 1
+
+    def rows_hold(self, quality: float) -> bool:
+        """True if :meth:`reselect_rows` keeps the rows without a search at the kept rows' ``quality`` now."""
+        last = self._row_search
+        return quality >= 0.5 or (last is not None and quality >= 0.6 * last[1] and self.steps - last[0] < 1000)
 
     def _kept_quality(self) -> float:
         """The kept rows' quality at the current pose on the compiled path (:meth:`reselect_rows`)."""

@@ -32,6 +32,8 @@ from .formulations import Index3, Settings, make_formulation
 from .kinematics import Pose
 from .model import MultibodyModel
 
+_ENERGY_SUMS = ("dissipated", "work", "pto_energy", "energy0")  # the fused call's ``energy[:4]``
+
 
 class MultibodySimulator:
     """Model + formulation + substepping + outputs (module docstring)."""
@@ -107,49 +109,75 @@ class MultibodySimulator:
         """The macro step in one compiled call (:func:`mbd_fmu.kernels.ga_macro_step`) on the compiled index-3
         path; False (nothing changed) where it does not apply: another formulation or the Python path, kept
         constraint rows due for re-selection, a singular consistent acceleration or a first substep that does not
-        converge (the step by step path then repeats the step with its own fallbacks and error messages)."""
+        converge (the step by step path then repeats the step with its own fallbacks and error messages).
+
+        The thin per-step path: the call's buffers, energy argument and layout are kept between steps
+        (:class:`FusedBuffers`, rebuilt when the formulation, its compiled view, the kept rows, the PTOs or the
+        outputs choice change) and the state reached is written in place into the arrays the formulation holds
+        (:meth:`FusedBuffers.take`); a copy of the state (FMU state, checkpoint) holds copies of them."""
         f = self.formulation
         if not isinstance(f, Index3) or not getattr(self, "fused", True):  # (absent from earlier versions' states)
             return False
         f.check_model()
         m = self.model
-        if f.compiled is None or (len(m.kept) != m.m and not (f._quality is not None and f._quality[0] == f.steps
-                                                      and f._quality[1] >= 0.5)):
+        cm = f.compiled
+        if cm is None:
             return False
+        if len(m.kept) != m.m:  # redundant constraints: only if the kept rows stay (Formulation.reselect_rows)
+            quality = f._quality
+            if quality is None or quality[0] != f.steps or not f.rows_hold(quality[1]):
+                return False
+        held = f.inputs
         if inputs is None:  # held
-            inputs, changed = f.inputs, False
+            inputs, changed = held, False
         else:
-            inputs = np.array(inputs, dtype=float)
-            changed = not np.array_equal(inputs, f.inputs)
-        mode = f.settings.restart
+            inputs = np.asarray(inputs, dtype=float)
+            changed = inputs.tolist() != held.tolist()  # (np.array_equal's answer, for a fraction of its cost)
+            inputs = inputs.copy() if changed else held
+        settings = f.settings
+        mode = settings.restart
         consistent = mode != "none" and (getattr(self, "_commands_changed", False) or changed)
         shift = 1 if f.a is None or (consistent and mode != "increment") else (2 if consistent else 0)
-        energy = self._energy_sums()
+        buffers = getattr(self, "_buffers", None)
+        if buffers is None or not buffers.serves(f, cm, m.kept, self.eager_outputs):
+            buffers = self._buffers = FusedBuffers(self)
         end = f.end_powers  # the powers now, from the step that led here (None after a restart or new commands)
         if not (consistent or changed) and end is not None and end[0] == f.steps:
-            energy = np.concatenate([energy, self._powers])  # the start powers: the kernel need not evaluate them
-        status, done, iterations, retries, keep, stiff, out, at = f.fused(
-            h, n, consistent, shift, inputs=inputs, energy=energy, ptos=self._pto_springs(),
-            outputs=self.eager_outputs)
+            energy = buffers.energy  # with the start powers: the kernel need not evaluate them
+            energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0, *self._powers)
+        else:
+            energy = buffers.energy_sums
+            energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0)
+        key = f._lu_key
+        hs = h / n
+        have = key is not None and key[0] == hs and (key[1] is m.kept or np.array_equal(key[1], m.kept))
+        pose, vdot = f.pose, f.vdot
+        ip, fp = cm.plan()  # PTO commands and angle references of now
+        status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
+            ip, fp, pose.r, pose.R, f.v, vdot, vdot if f.a is None else f.a, f.lam, inputs, cm.refs, float(h), n,
+            f._coef, float(settings.newton_tolerance), f.length, int(settings.max_iterations), f._lu, f._piv, have,
+            consistent, shift, 0.0 if mode == "acceleration" else buffers.delta, buffers.ptos, energy, buffers.target())
         if done == 0:
             if status != 0:
                 f._lu_key = None  # the factors may have been overwritten
             return False
         self._commands_changed = False
-        f.inputs = inputs
+        if changed:
+            f.inputs = inputs
         f.newton_iterations += iterations
         f.newton_retries += retries
-        f.stiff_restarts += int(stiff)
-        hs = h / n
+        if stiff:
+            f.stiff_restarts += 1
         for _ in range(done):
             f.t += hs
         f.steps += done
-        f.take_fused(out, at)
-        f._lu_key = (hs, m.kept) if keep else None
-        self.dissipated, self.work, self.pto_energy = out[at[7]:at[7] + 3].tolist()
-        self._powers = tuple(out[at[8]:at[8] + 3].tolist())
+        outputs = buffers.take(self)
+        if not keep:
+            f._lu_key = None
+        elif not have or key[1] is not m.kept:
+            f._lu_key = (hs, m.kept)
         if done == n and self.eager_outputs:
-            self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), self._split_outputs(out, at))
+            self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), outputs)
         elif done == n:
             self._outputs = None  # computed when read (compiled_outputs)
         else:  # stopped early (rows to re-select, a substep that did not converge): the rest step by step
@@ -160,7 +188,7 @@ class MultibodySimulator:
 
     def _energy_sums(self) -> np.ndarray:
         """(dissipated energy, external work, PTO energy, initial mechanical energy): the fused call's ``energy``."""
-        return np.array([getattr(self, key, 0.0) for key in ("dissipated", "work", "pto_energy", "energy0")])
+        return np.array([getattr(self, key, 0.0) for key in _ENERGY_SUMS])
 
     def _pto_springs(self) -> np.ndarray:
         """Positions of the PTOs among the compiled springs (the fused call's PTO power and outputs; the same for
@@ -173,15 +201,16 @@ class MultibodySimulator:
         return positions
 
     def _split_outputs(self, flat: np.ndarray, at: np.ndarray | None = None) -> dict:
-        """The named parts (views) of :func:`mbd_fmu.kernels.outputs`' flat array, or (``at``: its offsets) of the
-        fused call's output ``flat``, which then also serves :meth:`output_values`."""
+        """The named parts (views, the scalars as 0-d arrays: the kept buffers of :class:`FusedBuffers` are
+        rewritten in place) of :func:`mbd_fmu.kernels.outputs`' flat array, or (``at``: its offsets) of the fused
+        call's output ``flat``, which then also serves :meth:`output_values`."""
         values = None
         if at is not None:
             values, flat = flat, flat[at[11]:at[12]]
         nb, nj, nc = self.model.N, len(self.model.joints), len(self.formulation.compiled.coordinates)
         k = self._outputs_offsets()
-        return {"values": values, "layout": at, "displacement": flat[:k["kinetic"]].reshape(nb, 6),
-                "kinetic": flat[k["kinetic"]], "potential": flat[k["potential"]], "violation": flat[k["violation"]],
+        scalar = {key: flat[k[key]:k[key] + 1].reshape(()) for key in ("kinetic", "potential", "violation")}  # views
+        return {"values": values, "layout": at, "displacement": flat[:k["kinetic"]].reshape(nb, 6), **scalar,
                 "reactions": flat[k["reactions"]:k["coordinates"]].reshape(nj, 6),
                 "coordinates": flat[k["coordinates"]:k["spring_forces"]].reshape(nc, 2),
                 "spring_forces": flat[k["spring_forces"]:]}
@@ -392,3 +421,71 @@ class MultibodySimulator:
             force = p.law_force(x, v)
             rows.append((x, v, force, -force * v))
         return np.array(rows).reshape(len(self.ptos), 4)
+
+
+class FusedBuffers:
+    """What :meth:`MultibodySimulator._advance_fused` keeps between macro steps for one formulation, compiled view,
+    kept-row set and outputs choice: the layout of the fused call's output (:func:`mbd_fmu.kernels.macro_layout`),
+    two output buffers the calls write in turn (each call reads the state from the one the last call wrote: the
+    formulation's pose, v', lambda, v and a are views of it, so no new arrays per step and no copy; a call that fails
+    leaves the state untouched), the energy argument, the PTOs' spring positions and, with eager outputs, the named
+    views of each buffer's outputs (:meth:`MultibodySimulator._split_outputs`).
+
+    Derived data, not state: a copy (deep copy, FMU state, checkpoint) is an empty instance that serves nothing,
+    and the next step builds new buffers; the copied formulation's arrays are copies, not views of these."""
+
+    formulation = None  # (an empty instance serves nothing)
+
+    def __init__(self, sim: MultibodySimulator) -> None:
+        f, m = sim.formulation, sim.model
+        cm = f.compiled
+        self.formulation, self.compiled, self.kept, self.eager = f, cm, m.kept, sim.eager_outputs
+        self.ptos = sim._pto_springs()
+        for key in _ENERGY_SUMS:  # (absent from earlier versions' states: what _energy_sums reads them as)
+            sim.__dict__.setdefault(key, 0.0)
+        at = self.at = f._offsets(len(self.ptos))
+        nn = m.n + len(m.kept)
+        if f._lu is None or f._lu.shape[0] != nn:
+            f._lu, f._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
+        self.delta = float(f.coef.alpha_m - f.coef.alpha_f)
+        nb = m.N
+        self.sides = []
+        for _ in range(2):
+            out = np.empty(at[-1] if self.eager else at[11])
+            self.sides.append((out, out[at[0]:at[1]], out[at[1]:at[2]],
+                               Pose(out[at[2]:at[3]].reshape(nb, 3), out[at[3]:at[4]].reshape(nb, 3, 3)),
+                               out[at[4]:at[5]], out[at[5]:at[6]], out[at[6]:at[7]], out[at[9]:at[10]],
+                               sim._split_outputs(out, at) if self.eager else None))
+        self.written = 1  # the side the last call wrote (the next call writes the other)
+        self.sums = slice(int(at[7]), int(at[7]) + 6)  # energy sums and powers (at[8] = at[7] + 3)
+        self.quality = int(at[10])
+        self.energy = np.zeros(7)  # energy sums, initial energy, start powers (the kernel's ``energy``)
+        self.energy_sums = self.energy[:4]
+
+    def __getstate__(self) -> dict:
+        return {}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.clear()
+
+    def serves(self, f: Index3, cm: object, kept: np.ndarray, eager: bool) -> bool:
+        return f is self.formulation and cm is self.compiled and kept is self.kept and eager == self.eager
+
+    def target(self) -> np.ndarray:
+        """The buffer the next call writes: not the one the formulation's state is a view of."""
+        return self.sides[1 - self.written][0]
+
+    def take(self, sim: MultibodySimulator) -> dict | None:
+        """The state the call reached (in :meth:`target`) into the simulator and its formulation (``t`` and
+        ``steps`` are the caller's): v', lambda, pose, v, a as views of that buffer, the angle references' commit,
+        the row quality, the end powers, the energy sums; returns that buffer's named outputs (eager outputs)."""
+        self.written = w = 1 - self.written
+        f = sim.formulation
+        out, f.vdot, f.lam, f.pose, f.v, f.a, refs, springs, outputs = self.sides[w]
+        self.compiled.commit(refs)
+        f._quality = (f.steps, out.item(self.quality))
+        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = out[self.sums].tolist()
+        sim._powers = (diss, supply, pto)
+        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
+        f.end_powers = (f.steps, diss, supply, springs)
+        return outputs

@@ -424,21 +424,31 @@ class MultibodySlave(VectorSlave):
         self.mark_outputs_stale()
         return True
 
+    def _input_force_index(self) -> int:
+        """Position of the linearised input-force element among the model's elements (kept: the same in copies of
+        the state)."""
+        index = self.__dict__.get("_input_force")
+        if index is None:
+            index = self._input_force = next(i for i, e in enumerate(self.system.model.elements)
+                                             if isinstance(e, LinearisedInputForce))
+        return index
+
     def _coordinates(self) -> list[tuple[str, int]]:
         return [tuple(c) for c in self.spec["hydro_coordinates"]]
 
     def _step_nonlinear(self, step_size: float) -> bool:
         sim = self.system
-        if sim.ptos:
-            sim.set_pto_commands(self.array("pto.stiffness"), self.array("pto.damping"),
-                                 self.array("pto.force_command"), defer=not self._coupling)
+        arrays = self._arrays
+        if sim.ptos:  # (as Python floats: compared with the PTOs' commands without numpy scalars)
+            sim.set_pto_commands(arrays["pto.stiffness"].tolist(), arrays["pto.damping"].tolist(),
+                                 arrays["pto.force_command"].tolist(), defer=not self._coupling)
         inputs = np.zeros(sim.model.n)
-        inputs[self._input_slots] = self.array("F")
+        inputs[self._input_slots] = arrays["F"]
         restart = False
         if self._coupling:
-            element = next(e for e in sim.model.elements if isinstance(e, LinearisedInputForce))  # (state copies)
-            values = [self._arrays[key] for key in ("F0", "F0_rate", "dF_dx", "dF_dv")]
-            if element.active or any(a.any() for a in values):
+            element = sim.model.elements[self._input_force_index()]  # (the element of this state: state copies)
+            values = [arrays[key] for key in ("F0", "F0_rate", "dF_dx", "dF_dv")]
+            if element.active or any(np.count_nonzero(a) for a in values):
                 restart = element.set(sim.time, values[0], values[1], *self._tangents())
             else:  # inputs left at zero (a master that uses the force F only): what set() would do, for less
                 element.t0 = float(sim.time)

@@ -14,11 +14,14 @@ hand over to the step by step path mid-step.
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
+from fmu_base import state_codec
 from mbd_fmu.formulations import RESTARTS, ConvergenceError, Settings
-from mbd_fmu.simulator import MultibodySimulator
+from mbd_fmu.simulator import FusedBuffers, MultibodySimulator
 
 from .mechanisms import bricard
 from .test_multibody_fast import two_bodies
@@ -131,3 +134,44 @@ def test_a_macro_step_that_does_not_converge_fails_as_on_the_step_by_step_path()
     assert (a.steps, a.t) == (b.steps, b.t)
     for x, y in ((a.pose.r, b.pose.r), (a.v, b.v), (a.lam, b.lam)):
         assert np.array_equal(x, y)
+
+
+def test_a_saved_state_is_a_copy_that_later_steps_do_not_overwrite() -> None:
+    """The fused path keeps its output buffers between macro steps and the formulation's state is views of them
+    (:class:`~mbd_fmu.simulator.FusedBuffers`, rewritten every other step): a state saved between steps (the deep
+    copy of the FMU's getFMUstate, the data-only encoding of serialised FMU states and checkpoints) must hold
+    copies. Saved after 20 macro steps while the original runs 20 more: the saved states are unchanged, and each,
+    restored (the encoded one onto the live simulator, as setFMUstate does), repeats those 20 steps bit for bit."""
+    model, pose, v = two_bodies("revolute")
+    pto = next(e for e in model.elements if e.name == "pto")
+    sim = MultibodySimulator(model, Settings("index3", spectral_radius=0.8), MAX_STEP, [pto])
+    sim.eager_outputs = True  # as in the FMU: the outputs are views of the kept buffers too
+    sim.start(pose, v)
+    forced = np.array([dof < 3 for _, dof in model.coordinates])
+
+    def steps(s: MultibodySimulator, first: int) -> None:
+        for k in range(first, first + 20):
+            s.advance(H, 20.0 * forced * np.sin(3.0 * k * H + np.arange(model.n)))
+
+    def state(s: MultibodySimulator) -> dict[str, np.ndarray]:
+        f = s.formulation
+        return {"r": f.pose.r.copy(), "R": f.pose.R.copy(), "v": f.v.copy(), "vdot": f.vdot.copy(), "a": f.a.copy(),
+                "lam": f.lam.copy(), "outputs": s.output_values().copy(), "t": np.array([f.t, f.steps]),
+                "energy": np.array(list(s.energy().values()))}
+
+    steps(sim, 0)
+    assert isinstance(sim._buffers, FusedBuffers)  # the kept buffers' path ran: the state is views of them
+    assert any(sim.formulation.v is side[4] and sim.formulation.pose is side[3] for side in sim._buffers.sides)
+    at_save = state(sim)
+    copied, encoded = copy.deepcopy(sim), state_codec.encode(sim)
+    steps(sim, 20)
+    final = state(sim)
+    assert not np.array_equal(final["r"], at_save["r"])
+    for key, value in state(copied).items():
+        assert np.array_equal(value, at_save[key]), key
+    for restored in (copied, state_codec.decode(encoded, sim)):
+        for key, value in state(restored).items():
+            assert np.array_equal(value, at_save[key]), key
+        steps(restored, 20)
+        for key, value in state(restored).items():
+            assert np.array_equal(value, final[key]), key
