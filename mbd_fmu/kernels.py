@@ -330,8 +330,15 @@ def lu_factor(a, piv, kl, ku):
 @njit
 def lu_solve(a, piv, kl, ku, b):
     """Solve with the factors of :func:`lu_factor`."""
-    n = a.shape[0]
     x = b.copy()
+    lu_solve_inplace(a, piv, kl, ku, x)
+    return x
+
+
+@njit
+def lu_solve_inplace(a, piv, kl, ku, x):
+    """:func:`lu_solve` overwriting the right-hand side ``x`` with the solution."""
+    n = a.shape[0]
     for k in range(n):
         p = piv[k]
         if p != k:
@@ -345,7 +352,6 @@ def lu_solve(a, piv, kl, ku, b):
         for j in range(i + 1, min(n - 1, i + kl + ku) + 1):
             s -= a[i, j] * x[j]
         x[i] = s / a[i, i]
-    return x
 
 
 @njit
@@ -367,6 +373,17 @@ def factor_into(plan, mat, lu, piv):
 def solve(plan, lu, piv, b):
     """Solution with the factors of :func:`factor_into` (the iteration matrix's band)."""
     return _solve_ordered(plan[24], lu, piv, plan[25][0], plan[25][1], b)
+
+
+@njit
+def solve_negated_into(plan, lu, piv, b, work, x):
+    """``x`` = :func:`solve` (-``b``) with no new array (``work``, ``x``: (n + r,)); the same operations."""
+    order = plan[24]
+    for i in range(order.shape[0]):
+        work[i] = -b[order[i]]
+    lu_solve_inplace(lu, piv, plan[25][0], plan[25][1], work)
+    for i in range(order.shape[0]):
+        x[order[i]] = work[i]
 
 
 @njit
@@ -1001,7 +1018,17 @@ def acceleration_factored(plan, pr, pR, v, inputs, refs):
 @njit
 def saddle_residual(plan, pr, pR, v, inputs, refs, vd, lam):
     """``[f - M v' - C^T lambda; gamma - C v']`` of the saddle-point system at (pose, v) for given v', lambda."""
-    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
+    return _saddle_residual_at(plan, snapshot(pr, pR, v, plan[0]), inputs, refs, vd, lam)
+
+
+@njit
+def _saddle_residual_at(plan, snap, inputs, refs, vd, lam):
+    """:func:`saddle_residual` at a snapshot ``snap`` = (rr, RR, W) of the state."""
+    rr, RR, W = snap
+    iw = world_inertia(plan, RR)
+    mass = mass_matrix(plan, iw)
+    f = forces(plan, rr, RR, W, iw, inputs, refs)
+    _, jac, gam = constraints(plan, rr, RR, W, True, True)
     n, r = vd.shape[0], lam.shape[0]
     out = np.empty(n + r)
     for i in range(n):  # f_i - (M v')_i - (C^T lambda)_i, the sums in _matvec's and _tmatvec's order
@@ -1126,8 +1153,9 @@ def _ga_substep(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, newt
     if status != 0:
         return (status, iterations, keep, 1.0, vd_n, lam_n, pr, pR, v_n, a_n, refs, 0.0, 0.0,
                 np.zeros(plan[19].shape[0]))
-    r1, R1, v1, a1 = ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
-    rr, RR, W = snapshot(r1, R1, v1, plan[0])
+    rr, RR, W, v1, a1 = _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
+    nb = pr.shape[0]
+    r1, R1 = rr[:nb], RR[:nb]  # the new pose: views of the snapshot (ground last)
     refs1 = angle_references(plan, rr, RR, W, refs)
     quality = _row_quality(plan, rr, RR, W) if plan[23] < plan[22] else 1.0
     diss, supply, spring = _powers_at(plan, rr, RR, W, v1, inputs, refs1)
@@ -1152,6 +1180,7 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
     size = np.inf
     r_norm_prev = np.inf
     dx = np.zeros(nn)
+    work = np.empty(nn)
     has_dx = False
     previous = -1.0
     lu_ok = have_lu
@@ -1188,10 +1217,12 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
             if not factor_into(plan, mat, lu, piv):
                 return 2, iterations, False, vd, lam
             lu_ok = True
-        dx = solve(plan, lu, piv, -res)
+        solve_negated_into(plan, lu, piv, res, work, dx)
         has_dx = True
-        vd = vd + dx[:n]
-        lam = lam + dx[n:]
+        for i in range(n):
+            vd[i] += dx[i]
+        for k in range(nn - n):
+            lam[k] += dx[n + k]
         iterations += 1
         size = max(h * h * b, h * g) * zeta * np.abs(dx[:n]).max() if n else 0.0
         if size <= 1e-2 * tol:
@@ -1208,6 +1239,24 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
         previous = size
     keep = status == 0 and (not exact) and it < 3 and lu_ok
     return status, iterations, keep, vd, lam
+
+
+@njit
+def _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
+    """:func:`ga_update` as the new state's snapshot (rr, RR, W) (the pose: its first N rows), v, a: the same
+    arithmetic (:func:`_ga_residual`'s loops)."""
+    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
+    sel = plan[0]
+    n = sel.shape[0]
+    v1 = np.empty(n)
+    a1 = np.empty(n)
+    d = np.zeros(6 * (pr.shape[0] + 1))
+    for i in range(n):
+        a1[i] = (af * vd_n[i] - am * a_n[i] + (1 - af) * vd[i]) / (1 - am)
+        v1[i] = v_n[i] + h * ((1 - g) * a_n[i] + g * a1[i])
+        d[sel[i]] = h * (v_n[i] + h * ((0.5 - b) * a_n[i] + b * a1[i]))
+    rr, RR, W = _retract_snapshot(pr, pR, d, v1, sel)
+    return rr, RR, W, v1, a1
 
 
 @njit
@@ -1248,10 +1297,13 @@ def taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, del
     eps = 1e-5 * h
     sel = plan[0]
     n = sel.shape[0]
-    fr, fR = retract(pr, pR, eps * v, sel)
-    br, bR = retract(pr, pR, -eps * v, sel)
-    rp = saddle_residual(plan, fr, fR, v + eps * vdot, inputs, refs, vd0, lam0)
-    rm = saddle_residual(plan, br, bR, v - eps * vdot, inputs, refs, vd0, lam0)
+    d = np.zeros(6 * (pr.shape[0] + 1))
+    for i in range(n):
+        d[sel[i]] = eps * v[i]
+    rp = _saddle_residual_at(plan, _retract_snapshot(pr, pR, d, v + eps * vdot, sel), inputs, refs, vd0, lam0)
+    for i in range(n):
+        d[sel[i]] = -eps * v[i]
+    rm = _saddle_residual_at(plan, _retract_snapshot(pr, pR, d, v - eps * vdot, sel), inputs, refs, vd0, lam0)
     correction = delta * h * solve_saddle(plan, lu, piv, (rp - rm) / (2 * eps))[:n]
     if np.abs(correction).max() > 0.5 * np.abs(vdot).max() + 1e-12:
         return vdot.copy(), True
