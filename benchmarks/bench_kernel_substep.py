@@ -10,9 +10,13 @@ glue: what one hinge-barge macro step costs inside the kernel, by part.
    (0 substeps: the call's fixed cost), each with and without the outputs. The factors ``lu``, ``piv`` are
    restored before each variant (the captured ones: reused while ``have_lu``).
 
-Run: python benchmarks/bench_kernel_substep.py --capture benchmarks/results/hb_kernel_state.npz   (once, ~30 s)
-     python benchmarks/bench_kernel_substep.py --state benchmarks/results/hb_kernel_state.npz --out \
-benchmarks/results/kernel_substep.txt
+With ``--baseline REV`` it runs the timing in alternating child processes, ``--rounds`` times each, on the kernels
+of git revision ``REV`` (its ``mbd_fmu`` extracted to a temporary folder) and on this tree's, and says whether both
+give bit-identical results on every variant (a hash of the returned tuple and the output array).
+
+Run: python benchmarks/bench_kernel_substep.py --capture benchmarks/results/hb_kernel_state.npz   (once, ~10 s)
+     python benchmarks/bench_kernel_substep.py --baseline main --out benchmarks/results/kernel_substep.txt
+     (a few minutes when both revisions' kernels are in the numba cache; each cold compile ~2-3 min CPU)
 """
 
 from __future__ import annotations
@@ -102,6 +106,58 @@ def time_call(f, number: int, repeats: int, clock: str = "cpu") -> float:  # noq
     return min(timeit.repeat(f, number=number, repeat=repeats, timer=timer)) / number * 1e6
 
 
+def measure(st: dict, number: int, repeats: int, clock: str) -> dict:
+    """{variant: (microseconds per call, status, iterations, keep, hash of the call's results)} with the
+    ``mbd_fmu`` imported (this tree's or ``--tree``'s)."""
+    import hashlib
+
+    from mbd_fmu import kernels as K
+    out = {}
+    for name, kw in variants(st):
+        call = [kw[k] for k in ARGS]
+        lu0, piv0 = call[16].copy(), call[17].copy()
+        res = K.ga_macro_step(*call)  # compile / warm
+        digest = hashlib.sha1(np.concatenate([np.array(res, float), call[24]]).tobytes()).hexdigest()[:12]
+        call[16][:], call[17][:] = lu0, piv0
+        t = time_call(lambda: K.ga_macro_step(*call), number, repeats, clock)  # noqa: B023
+        out[name] = (t, int(res[0]), int(res[2]), bool(res[4]), digest)
+    return out
+
+
+def baseline_tree(ref: str, tmp: Path) -> Path:
+    """``mbd_fmu`` of git revision ``ref`` extracted into ``tmp`` (the kernels' cache is keyed on content)."""
+    import subprocess
+    archive = subprocess.run(["git", "archive", ref, "mbd_fmu"], cwd=ROOT, capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
+    return tmp
+
+
+def ab(args: argparse.Namespace) -> list[str]:
+    """Alternating processes: the baseline revision's kernels and this tree's, ``--rounds`` times each."""
+    import json
+    import subprocess
+    runs: dict = {"baseline": [], "this tree": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        trees = {"baseline": baseline_tree(args.baseline, Path(tmp)), "this tree": ROOT}
+        for _ in range(args.rounds):
+            for label, tree in trees.items():
+                cmd = [sys.executable, __file__, "--tree", str(tree), "--json", "--state", str(args.state),
+                       "--number", str(args.number), "--repeats", str(args.repeats), "--clock", args.clock]
+                runs[label].append(json.loads(subprocess.run(cmd, capture_output=True, text=True,
+                                                             check=True).stdout.splitlines()[-1]))
+    lines = [f"A/B in alternating processes, {args.rounds} rounds: baseline = mbd_fmu of {args.baseline}, this tree "
+             f"= the working tree; per call, min over the rounds of (min over {args.repeats} x {args.number} "
+             f"calls), microseconds of {args.clock} time; median of the rounds in brackets",
+             f"  {'variant':36s} {'baseline':>16s} {'this tree':>16s} {'ratio':>6s}  same results"]
+    for name in runs["baseline"][0]:
+        a = [r[name][0] for r in runs["baseline"]]
+        b = [r[name][0] for r in runs["this tree"]]
+        same = len({r[name][4] for r in runs["baseline"] + runs["this tree"]}) == 1
+        lines.append(f"  {name:36s} {min(a):7.1f} ({np.median(a):6.1f}) {min(b):7.1f} ({np.median(b):6.1f}) "
+                     f"{min(b) / min(a):6.2f}  {'bit-identical' if same else 'DIFFERENT'}")
+    return lines
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--capture", type=Path, help="run the scenario and save the last macro step's state here")
@@ -112,23 +168,34 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--clock", choices=("cpu", "wall"), default="cpu",
                     help="timer: the thread's CPU time (default; robust to a loaded machine) or wall time")
+    ap.add_argument("--baseline", help="git revision to compare with (A/B in alternating processes), e.g. main")
+    ap.add_argument("--rounds", type=int, default=3, help="A/B rounds (processes per side)")
+    ap.add_argument("--tree", type=Path, help=argparse.SUPPRESS)  # (A/B child: import mbd_fmu from here)
+    ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--out", type=Path, help="write the report here (else print)")
     args = ap.parse_args()
     if args.capture:
         capture(args.scenario, args.duration, args.capture)
         return
-    from mbd_fmu import kernels as K
+    if args.tree:
+        sys.path.insert(0, str(args.tree.resolve()))
     st = load_state(args.state)
-    lines = [f"state: {args.state.name} (n {st['v'].size}, kept rows {st['lam'].size}, bodies {st['pr'].shape[0]}, "
-             f"macro step {st['h']} s in {st['substeps']} substeps)",
-             f"per call, min over {args.repeats} x {args.number} calls, microseconds of {args.clock} time:"]
-    for name, kw in variants(st):
-        call = [kw[k] for k in ARGS]
-        lu0, piv0 = call[16].copy(), call[17].copy()
-        res = K.ga_macro_step(*call)  # compile / warm
-        call[16][:], call[17][:] = lu0, piv0
-        t = time_call(lambda: K.ga_macro_step(*call), args.number, args.repeats, args.clock)  # noqa: B023
-        lines.append(f"  {name:36s} {t:8.1f}   (status {res[0]}, iterations {res[2]}, keep {res[4]})")
+    head = [f"state: {args.state.name} (n {st['v'].size}, kept rows {st['lam'].size}, bodies {st['pr'].shape[0]}, "
+            f"macro step {st['h']} s in {st['substeps']} substeps)"]
+    if args.baseline:
+        write_report(report_header("bench_kernel_substep.py") + head + ab(args), args.out)
+        return
+    res = measure(st, args.number, args.repeats, args.clock)
+    if args.json:
+        import json
+
+        import mbd_fmu
+        assert args.tree is None or Path(mbd_fmu.__file__).resolve().parent.parent == args.tree.resolve()
+        print(json.dumps(res))
+        return
+    lines = head + [f"per call, min over {args.repeats} x {args.number} calls, microseconds of {args.clock} time:"]
+    lines += [f"  {name:36s} {t:8.1f}   (status {s}, iterations {i}, keep {k})"
+              for name, (t, s, i, k, _) in res.items()]
     write_report(report_header("bench_kernel_substep.py") + lines, args.out)
 
 

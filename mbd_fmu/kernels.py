@@ -185,6 +185,21 @@ def _tmatvec(a, x):
 
 
 @njit
+def _add_tmatvec(out, a, x, sign=1.0):
+    """out[:a.shape[1]] += sign * (a.T @ x) with the sums of :func:`_tmatvec` (rows in order, zero x skipped; sign
+    +-1, exact), row-wise (contiguous)."""
+    m = a.shape[1]
+    t = np.zeros(m)
+    for i in range(a.shape[0]):
+        xi = x[i]
+        if xi != 0.0:
+            for j in range(m):
+                t[j] += a[i, j] * xi
+    for j in range(m):
+        out[j] += sign * t[j]
+
+
+@njit
 def _vdot(a, b):
     s = 0.0
     for i in range(a.shape[0]):
@@ -399,12 +414,21 @@ def factor_saddle(plan, s, c):
     """LU factors of ``[[s, c^T], [c, 0]]`` (s: M or any matrix of M's structure) in the plan's order with the
     consistent-acceleration matrix's band, gathered from ``s`` and ``c`` (the saddle-point matrix is never
     formed): (factors, pivots, ok). Banded LU with partial pivoting, O((n + r) kl (kl + ku))."""
+    nn = s.shape[0] + c.shape[0]
+    lu = np.empty((nn, nn))
+    piv = np.zeros(nn, dtype=np.int64)
+    return lu, piv, factor_saddle_into(plan, s, c, lu, piv, 2)
+
+
+@njit
+def factor_saddle_into(plan, s, c, lu, piv, which):
+    """:func:`factor_saddle` into given arrays with the band ``plan[25][which:which + 2]`` (0: the iteration
+    matrix's, as :func:`factor_into` of :func:`saddle` (s, c) without forming it; 2: the consistent acceleration's);
+    False if singular."""
     order, band = plan[24], plan[25]
     n = s.shape[0]
     nn = n + c.shape[0]
-    kl, ku = band[2], band[3]
-    lu = np.empty((nn, nn))
-    piv = np.zeros(nn, dtype=np.int64)
+    kl, ku = band[which], band[which + 1]
     for i in range(nn):
         oi = order[i]
         for j in range(max(0, i - kl), min(nn, i + kl + ku + 1)):
@@ -413,7 +437,7 @@ def factor_saddle(plan, s, c):
                 lu[i, j] = s[oi, oj] if oj < n else c[oj - n, oi]
             else:
                 lu[i, j] = c[oi - n, oj] if oj < n else 0.0
-    return lu, piv, lu_factor(lu, piv, kl, ku)
+    return lu_factor(lu, piv, kl, ku)
 
 
 @njit
@@ -1031,15 +1055,12 @@ def _saddle_residual_at(plan, snap, inputs, refs, vd, lam):
     _, jac, gam = constraints(plan, rr, RR, W, True, True)
     n, r = vd.shape[0], lam.shape[0]
     out = np.empty(n + r)
-    for i in range(n):  # f_i - (M v')_i - (C^T lambda)_i, the sums in _matvec's and _tmatvec's order
+    for i in range(n):  # f - M v' - C^T lambda, the sums in _matvec's and _tmatvec's order
         s = 0.0
         for j in range(n):
             s += mass[i, j] * vd[j]
-        t = 0.0
-        for k in range(r):
-            if lam[k] != 0.0:
-                t += jac[k, i] * lam[k]
-        out[i] = f[i] - s - t
+        out[i] = f[i] - s
+    _add_tmatvec(out, jac, lam, -1.0)
     for k in range(r):
         s = 0.0
         for j in range(n):
@@ -1125,15 +1146,12 @@ def _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs, refs):
     f = forces(plan, rr, RR, W, iw, inputs, refs)
     r = phi.shape[0]
     res = np.empty(n + r)
-    for i in range(n):  # (M v')_i - f_i + (C^T lambda)_i, the sums in _matvec's and _tmatvec's order
+    for i in range(n):  # M v' - f + C^T lambda, the sums in _matvec's and _tmatvec's order
         s = 0.0
         for j in range(n):
             s += mass[i, j] * vd[j]
-        t = 0.0
-        for k in range(r):
-            if lam[k] != 0.0:
-                t += jac[k, i] * lam[k]
-        res[i] = s - f[i] + t
+        res[i] = s - f[i]
+    _add_tmatvec(res, jac, lam)
     scale = h * h * b * zeta
     for k in range(r):
         res[n + k] = phi[k] / scale
@@ -1210,12 +1228,16 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
                     mat[:, i] = (_ga_residual(plan, pr, pR, vde, lam, vd_n, a_n, v_n, h, coef, inputs, refs)[0]
                                  - res) / e
                 mat[:n, n:] = jac.T
+                if not factor_into(plan, mat, lu, piv):
+                    return 2, iterations, False, vd, lam
             else:
                 kt, dt = tangents(plan, rr, RR, W, iw, vd, lam, refs)
-                s = mass + h * g * zeta * dt + h * h * b * zeta * kt
-                mat = saddle(s, jac)
-            if not factor_into(plan, mat, lu, piv):
-                return 2, iterations, False, vd, lam
+                cd, ck = h * g * zeta, h * h * b * zeta
+                for i in range(n):  # S = M + h g zeta D + h^2 b zeta K in place of K (elementwise, the same sums)
+                    for j in range(n):
+                        kt[i, j] = mass[i, j] + cd * dt[i, j] + ck * kt[i, j]
+                if not factor_saddle_into(plan, kt, jac, lu, piv, 0):
+                    return 2, iterations, False, vd, lam
             lu_ok = True
         solve_negated_into(plan, lu, piv, res, work, dx)
         has_dx = True
