@@ -181,6 +181,8 @@ class Master:
         self.iterations: list[int] = []
         self._scale: dict[str, np.ndarray] = {}
         self._weights_cache: dict[tuple, np.ndarray] = {}
+        self._weights_seen: dict[tuple, np.ndarray] = {}  # exact key -> the rounded key's weights
+        self._divergence_limits: dict[str, np.ndarray] = {}  # per component, from its first outputs (_limits)
 
     # ------------------------------------------------------------------ set-up
     def _evaluation_order(self, connections: list[Connection]) -> list[str]:
@@ -267,9 +269,7 @@ class Master:
         """Divergence limit of each output of ``name``, relative to the scene's own scales: ``divergence_limit``
         times the larger of 1 and the output's first value (static loads, large bodies), and for energies
         (``energy.*``) also the scene's energy scale (``energy_scale``: energies start at zero)."""
-        limits = getattr(self, "_divergence_limits", None)
-        if limits is None:
-            limits = self._divergence_limits = {}
+        limits = self._divergence_limits
         if name not in limits:
             scale = np.maximum(1.0, np.where(np.isfinite(values), np.abs(values), 1.0))
             energy = np.array([v.startswith("energy.") for v in self.output_names[name]], dtype=bool)
@@ -321,6 +321,9 @@ class Master:
         The weights are computed from the rounded key itself, never from the first unrounded
         times that produced it: the cache is then a pure function of its key, so a run resumed
         from a checkpoint (empty cache) uses bit for bit the weights of an uninterrupted run."""
+        w = self._weights_seen.get((tau, h, point))  # the exact times: a handful of round-off variants per run
+        if w is not None:
+            return w
         key = (tuple([round(x, 12) for x in tau]), round(h, 12), point)
         w = self._weights_cache.get(key)
         if w is None:
@@ -329,6 +332,9 @@ class Master:
             if len(self._weights_cache) > 256:
                 self._weights_cache.clear()
             self._weights_cache[key] = w
+        if len(self._weights_seen) > 1024:
+            self._weights_seen.clear()
+        self._weights_seen[(tau, h, point)] = w
         return w
 
     def _extrapolated_input(self, name: str, h: float) -> np.ndarray:

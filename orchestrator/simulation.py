@@ -79,6 +79,16 @@ class Recorder:
             dest += [start + k for k in (range(len(out)) if cols is None else cols.tolist())]
         self._gather = {c: (np.array(s, dtype=np.intp), np.array(d, dtype=np.intp)) for c, (s, d) in gather.items()}
         self._energy = {name: layout[name][0].start for name in layout if name.startswith("energy/")}
+        self._balance = self._wave_balance_weights() if self.wave_balance else None
+
+    def _wave_balance_weights(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """(column, term columns, weights): :func:`wave_balance` is a linear combination of the energy terms,
+        so its weights are its values on unit rows; one dot product per row then evaluates it."""
+        names = list(self._energy)
+        weights = np.array([wave_balance({n: float(n == m) for n in names}) for m in names])
+        used = np.flatnonzero(weights)
+        columns = np.array([self._energy[names[k]] for k in used], dtype=np.intp)
+        return self._energy["energy/wave_balance"], columns, weights[used]
 
     @staticmethod
     def multibody_series(scene: Scene) -> dict[str, list[str]]:
@@ -137,8 +147,9 @@ class Recorder:
         row[0] = t
         for comp, (src, dest) in self._gather.items():
             row[dest] = outputs[comp][src]
-        if self.wave_balance:
-            row[self._energy["energy/wave_balance"]] = wave_balance({k: row[c] for k, c in self._energy.items()})
+        if self._balance is not None:
+            column, terms, weights = self._balance
+            row[column] = weights @ row[terms]
         return row
 
 
@@ -407,6 +418,7 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
         plan.master.terminate()
         raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
                             "run the simulation again")
+    _check_same_build(results, stored.get("fmus", {}), plan)
     # Restore first: a checkpoint that cannot be used leaves the results file as it was.
     try:
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
@@ -428,6 +440,21 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
+
+
+def _check_same_build(results: Path, built: dict[str, str], plan: RunPlan) -> None:
+    """Refuse a checkpoint whose FMUs were built from other sources than this version builds for the same
+    scenario (the FMU file name carries the build key: sources, PythonFMU, specification, data): an FMU
+    state is the private data of the build that wrote it and need not fit another one."""
+    now = plan.settings.get("fmus", {})
+    for kind, path in now.items():
+        if kind in built and Path(built[kind]).name != Path(path).name:
+            plan.master.terminate()
+            raise WecCosimError(
+                f"{checkpoint_path(results)}: the run was started by another build of the {kind} FMU "
+                f"({Path(built[kind]).name}; this version builds {Path(path).name}: the sources or PythonFMU "
+                f"changed since), and an FMU state need not fit another build; resume with the version that "
+                f"started the run, or run the simulation again. {results} is unchanged")
 
 
 def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: bool,

@@ -72,3 +72,27 @@ def test_resume_is_bit_identical(tmp_path, case, fmi, capsys) -> None:
     different = [k for k in series if not np.array_equal(whole[k], resumed[k])]
     assert different == [], f"{len(different)} of {len(series)} datasets differ after resuming: {different}"
     capsys.readouterr()
+
+
+def test_a_checkpoint_of_another_fmu_build_is_refused_with_the_file_unchanged(tmp_path, capsys) -> None:
+    """The results file records the FMUs' build keys (their file names); a resume whose version builds other
+    FMUs for the same scenario (sources or PythonFMU changed since the run started) is refused before any
+    state is restored: one clear message, exit 2, the results file as it was."""
+    import hashlib
+    import json
+
+    import h5py
+
+    out = tmp_path / "run.h5"
+    assert main(["run", str(scenario(tmp_path, "jacobi")), "--out", str(out), "--quiet"]) == 0
+    with h5py.File(out, "r+") as f:  # as a run started by a version whose hydro FMU had another build key
+        settings = json.loads(f.attrs["settings"])
+        built = settings["fmus"]["hydro"]
+        settings["fmus"]["hydro"] = built.replace(built.rsplit("-", 1)[-1], "0123456789abcdef.fmu")
+        f.attrs["settings"] = json.dumps(settings)
+    before = hashlib.sha256(out.read_bytes()).hexdigest()
+    capsys.readouterr()
+    assert main(["resume", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "another build of the hydro FMU" in err and "0123456789abcdef" in err and "Traceback" not in err, err
+    assert hashlib.sha256(out.read_bytes()).hexdigest() == before
