@@ -139,6 +139,14 @@ def _mv(m, v):
 
 
 @njit
+def _mv3(m, v):
+    """``_mv`` as three scalars (no array): the same expressions."""
+    return (m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2],
+            m[1, 0] * v[0] + m[1, 1] * v[1] + m[1, 2] * v[2],
+            m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2])
+
+
+@njit
 def _mm(a, b):
     """a @ b by loops (numba sends ``@`` to BLAS, whose call costs more than a small product)."""
     n, k, m = a.shape[0], a.shape[1], b.shape[1]
@@ -174,6 +182,21 @@ def _tmatvec(a, x):
             for j in range(a.shape[1]):
                 out[j] += a[i, j] * xi
     return out
+
+
+@njit
+def _add_tmatvec(out, a, x, sign=1.0):
+    """out[:a.shape[1]] += sign * (a.T @ x) with the sums of :func:`_tmatvec` (rows in order, zero x skipped; sign
+    +-1, exact), row-wise (contiguous)."""
+    m = a.shape[1]
+    t = np.zeros(m)
+    for i in range(a.shape[0]):
+        xi = x[i]
+        if xi != 0.0:
+            for j in range(m):
+                t[j] += a[i, j] * xi
+    for j in range(m):
+        out[j] += sign * t[j]
 
 
 @njit
@@ -217,6 +240,18 @@ def exp_so3(x, y, z):
 
 
 @njit
+def _log3(r):
+    """:func:`log_so3` as three scalars (the same expressions; no array away from an angle of pi)."""
+    c = min(max((r[0, 0] + r[1, 1] + r[2, 2] - 1) / 2, -1.0), 1.0)
+    t = math.acos(c)
+    if t <= math.pi - 1e-4:
+        factor = 0.5 + t * t / 12 if t < 1e-4 else t / (2 * math.sin(t))
+        return factor * (r[2, 1] - r[1, 2]), factor * (r[0, 2] - r[2, 0]), factor * (r[1, 0] - r[0, 1])
+    phi = log_so3(r)
+    return phi[0], phi[1], phi[2]
+
+
+@njit
 def log_so3(r):
     """Rotation vector of a rotation matrix (mbd_fmu.rotations.log_so3), angle in [0, pi]."""
     c = min(max((r[0, 0] + r[1, 1] + r[2, 2] - 1) / 2, -1.0), 1.0)
@@ -234,6 +269,30 @@ def log_so3(r):
     if _dot(n, w) < 0:
         n = -n
     return n * t
+
+
+@njit
+def _ljinv_t(x, y, z, g0, g1, g2):
+    """``_tmatvec(left_jacobian_inverse((x, y, z)), (g0, g1, g2))`` as three scalars (the same entries and sums, zero
+    components of g skipped as there)."""
+    t2 = x * x + y * y + z * z
+    t = math.sqrt(t2)
+    c = 1 / 12 + t2 / 720 if t < 1e-4 else (1 - t * math.sin(t) / (2 * (1 - math.cos(t)))) / t2
+    cxy, cxz, cyz = c * x * y, c * x * z, c * y * z
+    o0, o1, o2 = 0.0, 0.0, 0.0
+    if g0 != 0.0:
+        o0 += (1 + c * (x * x - t2)) * g0
+        o1 += (cxy + 0.5 * z) * g0
+        o2 += (cxz - 0.5 * y) * g0
+    if g1 != 0.0:
+        o0 += (cxy - 0.5 * z) * g1
+        o1 += (1 + c * (y * y - t2)) * g1
+        o2 += (cyz + 0.5 * x) * g1
+    if g2 != 0.0:
+        o0 += (cxz + 0.5 * y) * g2
+        o1 += (cyz - 0.5 * x) * g2
+        o2 += (1 + c * (z * z - t2)) * g2
+    return o0, o1, o2
 
 
 @njit
@@ -286,8 +345,15 @@ def lu_factor(a, piv, kl, ku):
 @njit
 def lu_solve(a, piv, kl, ku, b):
     """Solve with the factors of :func:`lu_factor`."""
-    n = a.shape[0]
     x = b.copy()
+    lu_solve_inplace(a, piv, kl, ku, x)
+    return x
+
+
+@njit
+def lu_solve_inplace(a, piv, kl, ku, x):
+    """:func:`lu_solve` overwriting the right-hand side ``x`` with the solution."""
+    n = a.shape[0]
     for k in range(n):
         p = piv[k]
         if p != k:
@@ -301,7 +367,6 @@ def lu_solve(a, piv, kl, ku, b):
         for j in range(i + 1, min(n - 1, i + kl + ku) + 1):
             s -= a[i, j] * x[j]
         x[i] = s / a[i, i]
-    return x
 
 
 @njit
@@ -326,6 +391,17 @@ def solve(plan, lu, piv, b):
 
 
 @njit
+def solve_negated_into(plan, lu, piv, b, work, x):
+    """``x`` = :func:`solve` (-``b``) with no new array (``work``, ``x``: (n + r,)); the same operations."""
+    order = plan[24]
+    for i in range(order.shape[0]):
+        work[i] = -b[order[i]]
+    lu_solve_inplace(lu, piv, plan[25][0], plan[25][1], work)
+    for i in range(order.shape[0]):
+        x[order[i]] = work[i]
+
+
+@njit
 def _solve_ordered(order, lu, piv, kl, ku, b):
     x = lu_solve(lu, piv, kl, ku, b[order])
     out = np.empty_like(x)
@@ -338,12 +414,21 @@ def factor_saddle(plan, s, c):
     """LU factors of ``[[s, c^T], [c, 0]]`` (s: M or any matrix of M's structure) in the plan's order with the
     consistent-acceleration matrix's band, gathered from ``s`` and ``c`` (the saddle-point matrix is never
     formed): (factors, pivots, ok). Banded LU with partial pivoting, O((n + r) kl (kl + ku))."""
+    nn = s.shape[0] + c.shape[0]
+    lu = np.empty((nn, nn))
+    piv = np.zeros(nn, dtype=np.int64)
+    return lu, piv, factor_saddle_into(plan, s, c, lu, piv, 2)
+
+
+@njit
+def factor_saddle_into(plan, s, c, lu, piv, which):
+    """:func:`factor_saddle` into given arrays with the band ``plan[25][which:which + 2]`` (0: the iteration
+    matrix's, as :func:`factor_into` of :func:`saddle` (s, c) without forming it; 2: the consistent acceleration's);
+    False if singular."""
     order, band = plan[24], plan[25]
     n = s.shape[0]
     nn = n + c.shape[0]
-    kl, ku = band[2], band[3]
-    lu = np.empty((nn, nn))
-    piv = np.zeros(nn, dtype=np.int64)
+    kl, ku = band[which], band[which + 1]
     for i in range(nn):
         oi = order[i]
         for j in range(max(0, i - kl), min(nn, i + kl + ku + 1)):
@@ -352,7 +437,7 @@ def factor_saddle(plan, s, c):
                 lu[i, j] = s[oi, oj] if oj < n else c[oj - n, oi]
             else:
                 lu[i, j] = c[oi - n, oj] if oj < n else 0.0
-    return lu, piv, lu_factor(lu, piv, kl, ku)
+    return lu_factor(lu, piv, kl, ku)
 
 
 @njit
@@ -454,54 +539,74 @@ def _rotation_component(RR, bi, bj, vec, k):
 @njit
 def coordinate(plan, s, rr, RR, W, ref):
     """Value, rate and 12-slot Jacobian of compiled coordinate ``s`` (kind 0 distance, 1 slide, 2 angle, 3 + k
-    component k of a rotation vector)."""
+    component k of a rotation vector): :func:`coordinate_into` with a new Jacobian array."""
+    jac = np.empty(12)
+    value, rate = coordinate_into(plan, s, rr, RR, W, ref, jac)
+    return value, rate, jac
+
+
+@njit
+def coordinate_into(plan, s, rr, RR, W, ref, jac):
+    """Value and rate of compiled coordinate ``s``, its 12-slot Jacobian written into ``jac`` (12,) (every entry
+    set); scalar arithmetic, no temporary arrays except for a rotation component."""
     kind = plan[16][s]
     bi, bj = plan[17][s, 0], plan[17][s, 1]
     vec = plan[18][s]
-    jac = np.zeros(12)
+    jac[:] = 0.0
     if kind >= 3:  # component kind - 3 of a relative rotation vector (mbd_fmu.coordinates.RotationComponent)
         value, row = _rotation_component(RR, bi, bj, vec, kind - 3)
         jac[3:6] = -row
         jac[9:12] = row
     elif kind == 2:  # angle of x_j about z_i from x_i (mbd_fmu.coordinates.Angle)
-        fx, fy = _mv(RR[bi], vec[2]), _mv(RR[bi], vec[3])
-        xj = _mv(RR[bj], vec[5])
-        c, sn = _dot(xj, fx), _dot(xj, fy)
+        fx0, fx1, fx2 = _mv3(RR[bi], vec[2])
+        fy0, fy1, fy2 = _mv3(RR[bi], vec[3])
+        x0, x1, x2 = _mv3(RR[bj], vec[5])
+        c = x0 * fx0 + x1 * fx1 + x2 * fx2
+        sn = x0 * fy0 + x1 * fy1 + x2 * fy2
         raw = math.atan2(sn, c)
         value = raw + 2 * math.pi * np.rint((ref - raw) / (2 * math.pi))
-        g = (c * _cross(xj, fy) - sn * _cross(xj, fx)) / (c * c + sn * sn)
-        jac[3:6] = -g
-        jac[9:12] = g
-    else:
-        ai, aj, d, wi, wj, dd = _two_points(rr, RR, W, bi, bj, vec[0], vec[1])
+        cy0, cy1, cy2 = _cross3(x0, x1, x2, fy0, fy1, fy2)
+        cx0, cx1, cx2 = _cross3(x0, x1, x2, fx0, fx1, fx2)
+        den = c * c + sn * sn
+        g0, g1, g2 = (c * cy0 - sn * cx0) / den, (c * cy1 - sn * cx1) / den, (c * cy2 - sn * cx2) / den
+        jac[3], jac[4], jac[5] = -g0, -g1, -g2
+        jac[9], jac[10], jac[11] = g0, g1, g2
+    else:  # the two points' separation d = r_j + a_j - r_i - a_i (:func:`_two_points`)
+        a0, a1, a2 = _mv3(RR[bi], vec[0])
+        b0, b1, b2 = _mv3(RR[bj], vec[1])
+        d0 = rr[bj, 0] + b0 - rr[bi, 0] - a0
+        d1 = rr[bj, 1] + b1 - rr[bi, 1] - a1
+        d2 = rr[bj, 2] + b2 - rr[bi, 2] - a2
         if kind == 0:
-            length = math.sqrt(_dot(d, d))
-            e = d / length
+            length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            e0, e1, e2 = d0 / length, d1 / length, d2 / length
             value = length
-            jac[0:3] = -e
-            jac[3:6] = -_cross(ai, e)
-            jac[6:9] = e
-            jac[9:12] = _cross(aj, e)
+            jac[0], jac[1], jac[2] = -e0, -e1, -e2
+            u0, u1, u2 = _cross3(a0, a1, a2, e0, e1, e2)
+            jac[3], jac[4], jac[5] = -u0, -u1, -u2
+            jac[6], jac[7], jac[8] = e0, e1, e2
+            jac[9], jac[10], jac[11] = _cross3(b0, b1, b2, e0, e1, e2)
         else:
-            n = _mv(RR[bi], vec[2])
-            value = _dot(n, d) - vec[3, 0]
-            jac[0:3] = -n
-            jac[3:6] = _cross(n, d + ai)
-            jac[6:9] = n
-            jac[9:12] = _cross(aj, n)
+            n0, n1, n2 = _mv3(RR[bi], vec[2])
+            value = n0 * d0 + n1 * d1 + n2 * d2 - vec[3, 0]
+            jac[0], jac[1], jac[2] = -n0, -n1, -n2
+            jac[3], jac[4], jac[5] = _cross3(n0, n1, n2, d0 + a0, d1 + a1, d2 + a2)
+            jac[6], jac[7], jac[8] = n0, n1, n2
+            jac[9], jac[10], jac[11] = _cross3(b0, b1, b2, n0, n1, n2)
     rate = 0.0
     for k in range(6):
         rate += jac[k] * W[bi, k] + jac[6 + k] * W[bj, k]
-    return value, rate, jac
+    return value, rate
 
 
 @njit
 def angle_references(plan, rr, RR, W, refs):
     """Unwrapped angle values at a committed state (mbd_fmu.coordinates.Angle.commit); others unchanged."""
     out = refs.copy()
+    jac = np.empty(12)
     for s in range(plan[16].shape[0]):
         if plan[16][s] == 2:
-            out[s] = coordinate(plan, s, rr, RR, W, refs[s])[0]
+            out[s] = coordinate_into(plan, s, rr, RR, W, refs[s], jac)[0]
     return out
 
 
@@ -567,22 +672,36 @@ def _add_full(out, colmap, si, sj, val):
 
 @njit
 def element_forces(plan, rr, RR, W, refs, f):
-    """Add the compiled force elements' generalised forces into the full slot vector ``f``."""
+    """Add the compiled force elements' generalised forces into the full slot vector ``f`` (scalar arithmetic: a
+    mooring's -K x - D w with x = (r - r0, log R), its moment through J_l(log R)^-T; a coordinate element's force
+    along the coordinate's Jacobian)."""
     for q in range(plan[13].shape[0]):
         b = plan[13][q]
-        kd = plan[14][q]
-        phi = log_so3(RR[b])
-        x = np.empty(6)
-        x[:3] = rr[b] - plan[15][q]
-        x[3:] = phi
-        g = -_matvec(kd[0], x) - _matvec(kd[1], W[b])
-        jinv = left_jacobian_inverse(phi)
-        f[6 * b:6 * b + 3] += g[:3]
-        f[6 * b + 3:6 * b + 6] += _tmatvec(jinv, g[3:])
+        k, d = plan[14][q, 0], plan[14][q, 1]
+        r0 = plan[15][q]
+        p0, p1, p2 = _log3(RR[b])
+        x = (rr[b, 0] - r0[0], rr[b, 1] - r0[1], rr[b, 2] - r0[2], p0, p1, p2)
+        g = np.empty(6)
+        for i in range(6):
+            sk = 0.0
+            sd = 0.0
+            for j in range(6):
+                sk += k[i, j] * x[j]
+            for j in range(6):
+                sd += d[i, j] * W[b, j]
+            g[i] = -sk - sd
+        f[6 * b] += g[0]
+        f[6 * b + 1] += g[1]
+        f[6 * b + 2] += g[2]
+        m0, m1, m2 = _ljinv_t(p0, p1, p2, g[3], g[4], g[5])
+        f[6 * b + 3] += m0
+        f[6 * b + 4] += m1
+        f[6 * b + 5] += m2
+    jac = np.empty(12)
     for e in range(plan[19].shape[0]):
         s = plan[19][e]
         par = plan[21][e]
-        value, rate, jac = coordinate(plan, s, rr, RR, W, refs[s])
+        value, rate = coordinate_into(plan, s, rr, RR, W, refs[s], jac)
         force = _element_law(par, value - par[3], rate)[0]
         bi, bj = plan[17][s, 0], plan[17][s, 1]
         for k in range(6):
@@ -923,11 +1042,30 @@ def acceleration_factored(plan, pr, pR, v, inputs, refs):
 @njit
 def saddle_residual(plan, pr, pR, v, inputs, refs, vd, lam):
     """``[f - M v' - C^T lambda; gamma - C v']`` of the saddle-point system at (pose, v) for given v', lambda."""
-    mass, f, jac, gam = _saddle_parts(plan, pr, pR, v, inputs, refs)
-    n = vd.shape[0]
-    out = np.empty(n + lam.shape[0])
-    out[:n] = f - _matvec(mass, vd) - _tmatvec(jac, lam)
-    out[n:] = gam - _matvec(jac, vd)
+    return _saddle_residual_at(plan, snapshot(pr, pR, v, plan[0]), inputs, refs, vd, lam)
+
+
+@njit
+def _saddle_residual_at(plan, snap, inputs, refs, vd, lam):
+    """:func:`saddle_residual` at a snapshot ``snap`` = (rr, RR, W) of the state."""
+    rr, RR, W = snap
+    iw = world_inertia(plan, RR)
+    mass = mass_matrix(plan, iw)
+    f = forces(plan, rr, RR, W, iw, inputs, refs)
+    _, jac, gam = constraints(plan, rr, RR, W, True, True)
+    n, r = vd.shape[0], lam.shape[0]
+    out = np.empty(n + r)
+    for i in range(n):  # f - M v' - C^T lambda, the sums in _matvec's and _tmatvec's order
+        s = 0.0
+        for j in range(n):
+            s += mass[i, j] * vd[j]
+        out[i] = f[i] - s
+    _add_tmatvec(out, jac, lam, -1.0)
+    for k in range(r):
+        s = 0.0
+        for j in range(n):
+            s += jac[k, j] * vd[j]
+        out[n + k] = gam[k] - s
     return out
 
 
@@ -955,21 +1093,68 @@ def _row_quality(plan, rr, RR, W):
 
 
 @njit
+def _retract_snapshot(pr, pR, d, v, sel):
+    """:func:`snapshot` of (:func:`retract` (pr, pR, delta), v) for the full slot increment ``d`` (6 (N + 1),) (the
+    same arithmetic, no intermediate pose)."""
+    nb = pr.shape[0]
+    rr = np.zeros((nb + 1, 3))
+    RR = np.empty((nb + 1, 3, 3))
+    for b in range(nb):
+        rr[b, 0] = pr[b, 0] + d[6 * b]
+        rr[b, 1] = pr[b, 1] + d[6 * b + 1]
+        rr[b, 2] = pr[b, 2] + d[6 * b + 2]
+        e = exp_so3(d[6 * b + 3], d[6 * b + 4], d[6 * b + 5])
+        p = pR[b]
+        for i in range(3):
+            for j in range(3):  # _mm(e, pR[b]): zero factors skipped as there
+                acc = 0.0
+                for k in range(3):
+                    eik = e[i, k]
+                    if eik != 0.0:
+                        acc += eik * p[k, j]
+                RR[b, i, j] = acc
+    RR[nb] = np.eye(3)
+    W = np.zeros((nb + 1, 6))
+    wf = W.reshape(-1)
+    for i in range(sel.shape[0]):
+        wf[sel[i]] = v[i]
+    return rr, RR, W
+
+
+@njit
 def _ga_residual(plan, pr, pR, vd, lam, vd_n, a_n, v_n, h, coef, inputs, refs):
+    """Residual of the index-3 generalised-alpha equations at (v', lambda) (mbd_fmu.formulations.Index3.step):
+    [M v' - f + C^T lambda; Phi / (h^2 beta zeta)] at the step's end state, and that state's snapshot, world
+    inertia, mass matrix and constraint Jacobian. Elementwise scalar loops, the same expressions as the array form
+    ``a1 = (af vd_n - am a_n + (1 - af) vd) / (1 - am)``, ``v1 = v_n + h ((1 - g) a_n + g a1)``, increment
+    ``h (v_n + h ((0.5 - b) a_n + b a1))``."""
     am, af, g, b = coef[0], coef[1], coef[2], coef[3]
     zeta = (1 - af) / (1 - am)
     sel = plan[0]
     n = sel.shape[0]
-    a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
-    v1 = v_n + h * ((1 - g) * a_n + g * a1)
-    r1, R1 = retract(pr, pR, h * (v_n + h * ((0.5 - b) * a_n + b * a1)), sel)
-    rr, RR, W = snapshot(r1, R1, v1, sel)
+    nb = pr.shape[0]
+    v1 = np.empty(n)
+    d = np.zeros(6 * (nb + 1))
+    for i in range(n):
+        a1 = (af * vd_n[i] - am * a_n[i] + (1 - af) * vd[i]) / (1 - am)
+        v1[i] = v_n[i] + h * ((1 - g) * a_n[i] + g * a1)
+        d[sel[i]] = h * (v_n[i] + h * ((0.5 - b) * a_n[i] + b * a1))
+    rr, RR, W = _retract_snapshot(pr, pR, d, v1, sel)
     iw = world_inertia(plan, RR)
     mass = mass_matrix(plan, iw)
     phi, jac, _ = constraints(plan, rr, RR, W, True, False)
-    res = np.empty(n + phi.shape[0])
-    res[:n] = _matvec(mass, vd) - forces(plan, rr, RR, W, iw, inputs, refs) + _tmatvec(jac, lam)
-    res[n:] = phi / (h * h * b * zeta)
+    f = forces(plan, rr, RR, W, iw, inputs, refs)
+    r = phi.shape[0]
+    res = np.empty(n + r)
+    for i in range(n):  # M v' - f + C^T lambda, the sums in _matvec's and _tmatvec's order
+        s = 0.0
+        for j in range(n):
+            s += mass[i, j] * vd[j]
+        res[i] = s - f[i]
+    _add_tmatvec(res, jac, lam)
+    scale = h * h * b * zeta
+    for k in range(r):
+        res[n + k] = phi[k] / scale
     return res, rr, RR, W, iw, mass, jac
 
 
@@ -986,11 +1171,12 @@ def _ga_substep(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, newt
     if status != 0:
         return (status, iterations, keep, 1.0, vd_n, lam_n, pr, pR, v_n, a_n, refs, 0.0, 0.0,
                 np.zeros(plan[19].shape[0]))
-    r1, R1, v1, a1 = ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
-    rr, RR, W = snapshot(r1, R1, v1, plan[0])
+    rr, RR, W, v1, a1 = _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef)
+    nb = pr.shape[0]
+    r1, R1 = rr[:nb], RR[:nb]  # the new pose: views of the snapshot (ground last)
     refs1 = angle_references(plan, rr, RR, W, refs)
     quality = _row_quality(plan, rr, RR, W) if plan[23] < plan[22] else 1.0
-    diss, supply, spring = _powers(plan, r1, R1, v1, inputs, refs1)
+    diss, supply, spring = _powers_at(plan, rr, RR, W, v1, inputs, refs1)
     return status, iterations, keep, quality, vd, lam, r1, R1, v1, a1, refs1, diss, supply, spring
 
 
@@ -1012,6 +1198,7 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
     size = np.inf
     r_norm_prev = np.inf
     dx = np.zeros(nn)
+    work = np.empty(nn)
     has_dx = False
     previous = -1.0
     lu_ok = have_lu
@@ -1041,17 +1228,23 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
                     mat[:, i] = (_ga_residual(plan, pr, pR, vde, lam, vd_n, a_n, v_n, h, coef, inputs, refs)[0]
                                  - res) / e
                 mat[:n, n:] = jac.T
+                if not factor_into(plan, mat, lu, piv):
+                    return 2, iterations, False, vd, lam
             else:
                 kt, dt = tangents(plan, rr, RR, W, iw, vd, lam, refs)
-                s = mass + h * g * zeta * dt + h * h * b * zeta * kt
-                mat = saddle(s, jac)
-            if not factor_into(plan, mat, lu, piv):
-                return 2, iterations, False, vd, lam
+                cd, ck = h * g * zeta, h * h * b * zeta
+                for i in range(n):  # S = M + h g zeta D + h^2 b zeta K in place of K (elementwise, the same sums)
+                    for j in range(n):
+                        kt[i, j] = mass[i, j] + cd * dt[i, j] + ck * kt[i, j]
+                if not factor_saddle_into(plan, kt, jac, lu, piv, 0):
+                    return 2, iterations, False, vd, lam
             lu_ok = True
-        dx = solve(plan, lu, piv, -res)
+        solve_negated_into(plan, lu, piv, res, work, dx)
         has_dx = True
-        vd = vd + dx[:n]
-        lam = lam + dx[n:]
+        for i in range(n):
+            vd[i] += dx[i]
+        for k in range(nn - n):
+            lam[k] += dx[n + k]
         iterations += 1
         size = max(h * h * b, h * g) * zeta * np.abs(dx[:n]).max() if n else 0.0
         if size <= 1e-2 * tol:
@@ -1068,6 +1261,24 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
         previous = size
     keep = status == 0 and (not exact) and it < 3 and lu_ok
     return status, iterations, keep, vd, lam
+
+
+@njit
+def _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
+    """:func:`ga_update` as the new state's snapshot (rr, RR, W) (the pose: its first N rows), v, a: the same
+    arithmetic (:func:`_ga_residual`'s loops)."""
+    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
+    sel = plan[0]
+    n = sel.shape[0]
+    v1 = np.empty(n)
+    a1 = np.empty(n)
+    d = np.zeros(6 * (pr.shape[0] + 1))
+    for i in range(n):
+        a1[i] = (af * vd_n[i] - am * a_n[i] + (1 - af) * vd[i]) / (1 - am)
+        v1[i] = v_n[i] + h * ((1 - g) * a_n[i] + g * a1[i])
+        d[sel[i]] = h * (v_n[i] + h * ((0.5 - b) * a_n[i] + b * a1[i]))
+    rr, RR, W = _retract_snapshot(pr, pR, d, v1, sel)
+    return rr, RR, W, v1, a1
 
 
 @njit
@@ -1108,10 +1319,13 @@ def taylor_shift(plan, pr, pR, v, vdot, vd0, lam0, lu, piv, inputs, refs, h, del
     eps = 1e-5 * h
     sel = plan[0]
     n = sel.shape[0]
-    fr, fR = retract(pr, pR, eps * v, sel)
-    br, bR = retract(pr, pR, -eps * v, sel)
-    rp = saddle_residual(plan, fr, fR, v + eps * vdot, inputs, refs, vd0, lam0)
-    rm = saddle_residual(plan, br, bR, v - eps * vdot, inputs, refs, vd0, lam0)
+    d = np.zeros(6 * (pr.shape[0] + 1))
+    for i in range(n):
+        d[sel[i]] = eps * v[i]
+    rp = _saddle_residual_at(plan, _retract_snapshot(pr, pR, d, v + eps * vdot, sel), inputs, refs, vd0, lam0)
+    for i in range(n):
+        d[sel[i]] = -eps * v[i]
+    rm = _saddle_residual_at(plan, _retract_snapshot(pr, pR, d, v - eps * vdot, sel), inputs, refs, vd0, lam0)
     correction = delta * h * solve_saddle(plan, lu, piv, (rp - rm) / (2 * eps))[:n]
     if np.abs(correction).max() > 0.5 * np.abs(vdot).max() + 1e-12:
         return vdot.copy(), True
@@ -1139,6 +1353,22 @@ def powers(ip, fp, pr, pR, v, inputs, refs):
 @njit
 def _powers(plan, pr, pR, v, inputs, refs):
     rr, RR, W = snapshot(pr, pR, v, plan[0])
+    return _powers_at(plan, rr, RR, W, v, inputs, refs)
+
+
+@njit
+def _skew_part_nonzero(k):
+    """Whether 0.5 (k - k^T) has a non-zero entry (a 6 x 6 mooring stiffness that supplies power)."""
+    for i in range(6):
+        for j in range(6):
+            if 0.5 * (k[i, j] - k[j, i]) != 0.0:
+                return True
+    return False
+
+
+@njit
+def _powers_at(plan, rr, RR, W, v, inputs, refs):
+    """:func:`powers` at a snapshot ``rr``, ``RR``, ``W`` of the state (pose, ``v``)."""
     diss = 0.0
     supply = 0.0
     spring = np.zeros(plan[19].shape[0])
@@ -1146,9 +1376,15 @@ def _powers(plan, pr, pR, v, inputs, refs):
         b = plan[13][q]
         kd = plan[14][q]
         w = W[b]
-        diss += _vdot(w, _matvec(kd[1], w))
-        sk = 0.5 * (kd[0] - kd[0].T)
-        if np.any(sk != 0.0):
+        dw = 0.0  # w . (D w)
+        for i in range(6):
+            si = 0.0
+            for j in range(6):
+                si += kd[1, i, j] * w[j]
+            dw += w[i] * si
+        diss += dw
+        if _skew_part_nonzero(kd[0]):
+            sk = 0.5 * (kd[0] - kd[0].T)
             phi = log_so3(RR[b])
             x = np.empty(6)
             x[:3] = rr[b] - plan[15][q]
@@ -1156,10 +1392,11 @@ def _powers(plan, pr, pR, v, inputs, refs):
             g = -_matvec(sk, x)
             g[3:] = _tmatvec(left_jacobian_inverse(phi), g[3:])
             supply += _vdot(g, w)
+    jac = np.empty(12)
     for e in range(plan[19].shape[0]):
         s = plan[19][e]
         par = plan[21][e]
-        value, rate, _ = coordinate(plan, s, rr, RR, W, refs[s])
+        value, rate = coordinate_into(plan, s, rr, RR, W, refs[s], jac)
         _, spring[e], supplied, _ = _element_energy(par, value - par[3], rate)
         diss += spring[e]
         supply += supplied
@@ -1338,8 +1575,9 @@ def _outputs(plan, pr, pR, v, lam_kept, refs):
         ks = 0.5 * (plan[14][q, 0] + plan[14][q, 0].T)
         potential += 0.5 * _vdot(x, _matvec(ks, x))
     base = 6 * nb + 3 + 6 * n_joint
+    jac = np.empty(12)
     for c in range(n_coord):
-        value, rate, _ = coordinate(plan, c, rr, RR, W, refs[c])
+        value, rate = coordinate_into(plan, c, rr, RR, W, refs[c], jac)
         out[base + 2 * c] = value
         out[base + 2 * c + 1] = rate
     for e in range(n_spring):
