@@ -457,12 +457,20 @@ def snapshot(pr, pR, v, sel):
     RR = np.empty((nb + 1, 3, 3))
     rr[:nb] = pr
     RR[:nb] = pR
+    return rr, RR, _ground_and_velocities(RR, v, sel)
+
+
+@njit
+def _ground_and_velocities(RR, v, sel):
+    """The ground's orientation written as the last row of ``RR`` (N + 1, 3, 3); the slot velocities W (N + 1, 6)
+    with the generalised velocities ``v`` in their slots ``sel``."""
+    nb = RR.shape[0] - 1
     RR[nb] = np.eye(3)
     W = np.zeros((nb + 1, 6))
     wf = W.reshape(-1)
     for i in range(sel.shape[0]):
         wf[sel[i]] = v[i]
-    return rr, RR, W
+    return W
 
 
 @njit
@@ -1113,12 +1121,7 @@ def _retract_snapshot(pr, pR, d, v, sel):
                     if eik != 0.0:
                         acc += eik * p[k, j]
                 RR[b, i, j] = acc
-    RR[nb] = np.eye(3)
-    W = np.zeros((nb + 1, 6))
-    wf = W.reshape(-1)
-    for i in range(sel.shape[0]):
-        wf[sel[i]] = v[i]
-    return rr, RR, W
+    return rr, RR, _ground_and_velocities(RR, v, sel)
 
 
 @njit
@@ -1265,8 +1268,10 @@ def ga_step(plan, pr, pR, v_n, vd_n, a_n, lam_n, inputs, refs, h, coef, tol, max
 
 @njit
 def _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
-    """:func:`ga_update` as the new state's snapshot (rr, RR, W) (the pose: its first N rows), v, a: the same
-    arithmetic (:func:`_ga_residual`'s loops)."""
+    """Positions, velocities and algorithmic acceleration at the end of a converged generalised-alpha step, as the
+    new state's snapshot (rr, RR, W) (the pose: its first N rows), v, a (:func:`_ga_residual`'s loops):
+    a1 = (af v'_n - am a_n + (1 - af) v') / (1 - am), v1 = v_n + h ((1 - g) a_n + g a1),
+    q1 = q_n (+) h (v_n + h ((1/2 - b) a_n + b a1))."""
     am, af, g, b = coef[0], coef[1], coef[2], coef[3]
     sel = plan[0]
     n = sel.shape[0]
@@ -1279,16 +1284,6 @@ def _ga_update_snapshot(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
         d[sel[i]] = h * (v_n[i] + h * ((0.5 - b) * a_n[i] + b * a1[i]))
     rr, RR, W = _retract_snapshot(pr, pR, d, v1, sel)
     return rr, RR, W, v1, a1
-
-
-@njit
-def ga_update(plan, pr, pR, v_n, vd_n, a_n, vd, h, coef):
-    """Positions, velocities and algorithmic acceleration at the end of a converged step."""
-    am, af, g, b = coef[0], coef[1], coef[2], coef[3]
-    a1 = (af * vd_n - am * a_n + (1 - af) * vd) / (1 - am)
-    v1 = v_n + h * ((1 - g) * a_n + g * a1)
-    r1, R1 = retract(pr, pR, h * (v_n + h * ((0.5 - b) * a_n + b * a1)), plan[0])
-    return r1, R1, v1, a1
 
 
 @njit
