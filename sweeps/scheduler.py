@@ -26,6 +26,7 @@ from orchestrator.errors import WecCosimError
 from .case import CaseResult, CaseTask, run_case
 
 CONNECT_TIMEOUT = "60s"
+CLOSE_TIMEOUT = 20.0  # s: closing the client after a Ctrl-C (the cluster is closed after it in any case)
 
 
 @contextmanager
@@ -57,7 +58,13 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
             log(f"Dask dashboard: {client.dashboard_link}")
         yield client
     finally:
-        client.close()
+        try:
+            client.close(timeout=CLOSE_TIMEOUT)
+        except (OSError, TimeoutError):
+            # A Ctrl-C that lands inside one of the client's calls can leave it unable to close cleanly (it then
+            # waited twice the connect timeout, 120 s, and its TimeoutError replaced the interruption the user
+            # asked for); the cluster's processes are closed below all the same.
+            pass
         if cluster is not None:
             close_quietly(cluster)
 
@@ -69,7 +76,9 @@ def close_quietly(cluster) -> None:  # noqa: ANN001
     level = logger.level
     logger.setLevel(logging.CRITICAL)
     try:
-        cluster.close()
+        cluster.close(timeout=CLOSE_TIMEOUT)
+    except (OSError, TimeoutError):  # workers that do not stop in time are killed at the interpreter's exit
+        pass
     finally:
         logger.setLevel(level)
 
