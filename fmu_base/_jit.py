@@ -18,6 +18,7 @@ If numba is not installed, ``WEC_COSIM_NO_JIT`` is set, or the cache folder cann
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 import os
 from collections.abc import Callable
@@ -27,13 +28,22 @@ from pathlib import Path
 PACKAGES = ("mbd_fmu", "hydro_fmu", "fmu_base", "plain_mbd_fmu")
 
 
+@functools.lru_cache(maxsize=256)
+def _import_nodes(source: bytes, filename: str) -> tuple[ast.ImportFrom | ast.Import, ...]:
+    """The import statements of a module's source. Memoised on the content: every compiled function of a kernel
+    module asks for its module's key when numba sets up its cache, and parsing the module and the package modules
+    it imports each time cost seconds per import of the module (7 s for ``mbd_fmu/kernels.py``)."""
+    return tuple(node for node in ast.walk(ast.parse(source, filename=filename))
+                 if isinstance(node, (ast.ImportFrom, ast.Import)))
+
+
 def _imported_files(path: Path) -> list[Path]:
     """Files of :data:`PACKAGES` that the module at ``path`` imports (relative imports within its package, and
     absolute ``package.module`` imports resolved beside its package folder); those that do not exist are left
     out."""
     package = path.parent
     found = []
-    for node in ast.walk(ast.parse(path.read_bytes(), filename=str(path))):
+    for node in _import_nodes(path.read_bytes(), str(path)):
         if isinstance(node, ast.ImportFrom):
             if node.level == 1:
                 base = package
