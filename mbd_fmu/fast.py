@@ -164,6 +164,7 @@ class CompiledModel:
             self._plan = (ip, fp)
             self.refs = _view(ip, fp, 20, self.refs.shape)
             self.spring_par = _view(ip, fp, 21, self.spring_par.shape)
+            self._written = [None] * len(self.springs)  # spring parameters last written into this plan
             self._kept = m.kept
         elif not refresh:
             return self._plan
@@ -223,21 +224,23 @@ class CompiledModel:
         return order, np.array([band, band, band_acceleration, band_acceleration], dtype=np.int64)
 
     def _refresh(self) -> None:
-        """PTO commands and angle references from the Python objects (they may change between steps)."""
-        if not self.springs and not self.angles:
-            return
-        par = self.spring_par
+        """PTO commands and angle references from the Python objects (they may change between steps: read at every
+        step; a spring's row of the plan is rewritten only when its parameters differ from those last written)."""
+        written = self._written
         for i, e in enumerate(self.springs):
             if type(e) is CoordinateSpringDamper:
                 law = e.law
-                par[i] = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
+                values = (e.stiffness, e.damping, e.force_command, e.neutral, law.friction, law.quadratic,
                           law.force_limit, law.velocity_scale, 0.0)
             elif type(e) is Rope:
-                par[i] = (e.stiffness, e.damping, 0.0, e.length, 0.0, 0.0, 0.0, 1.0, 1.0)
+                values = (e.stiffness, e.damping, 0.0, e.length, 0.0, 0.0, 0.0, 1.0, 1.0)
             else:
-                par[i] = (0.0, 0.0, 0.0, 0.0, e.force, 0.0, 0.0, e.velocity, 2.0)
+                values = (0.0, 0.0, 0.0, 0.0, e.force, 0.0, 0.0, e.velocity, 2.0)
+            if values != written[i]:  # (a NaN parameter is never equal: rewritten every time, as it is read)
+                self.spring_par[i] = written[i] = values
+        refs = self.refs
         for s, c in self.angles:
-            self.refs[s] = c.reference
+            refs[s] = c.reference
 
     def dependent_order(self, dep: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
         """Order of the kept rows and of the dependent slots ``dep`` for a banded LU of C_d

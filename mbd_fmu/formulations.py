@@ -299,6 +299,7 @@ class Index3(Formulation):
         self.coef = GeneralizedAlphaCoefficients(settings.spectral_radius)
         c = self.coef
         self._coef = np.array([c.alpha_m, c.alpha_f, c.gamma, c.beta])
+        self._delta = float(c.alpha_m - c.alpha_f)  # the restart's Taylor shift factor
         self.a: np.ndarray | None = None
         self.stiff_restarts = 0
         self._iteration = None  # (step size and kept rows, factorised iteration matrix)
@@ -455,16 +456,14 @@ class Index3(Formulation):
         and errors)."""
         self.reselect_rows()
         start = self.a is None
-        status, _, iterations, retries, keep, stiff, out, at = self.fused(h, 1, shift=int(start))
+        status, _, iterations, retries, _, stiff, out, at = self.fused(h, 1, shift=int(start))
         self.newton_iterations += iterations
         self.newton_retries += retries
         self.stiff_restarts += int(stiff)
         if status != 0:
             if start:
                 self.a = out[at[5]:at[6]]  # the start acceleration the failed attempt began with
-            self._lu_key = None
             return False
-        self._lu_key = (h, self.model.kept) if keep else None  # the buffers stay; the key: do they hold factors
         self.t += h
         self.steps += 1
         self.take_fused(out, at)
@@ -473,54 +472,82 @@ class Index3(Formulation):
     # ------------------------------------------------------------------ the compiled call
     def fused(self, h: float, substeps: int, consistent: bool = False, shift: int = 0, pose: Pose | None = None,
               v: np.ndarray | None = None, inputs: np.ndarray | None = None, energy: np.ndarray | None = None,
-              ptos: np.ndarray | None = None, outputs: bool = False) -> tuple:
+              ptos: np.ndarray | None = None, outputs: bool = False, out: np.ndarray | None = None) -> tuple:
         """One call of :func:`mbd_fmu.kernels.ga_macro_step` (compiled path only) from the current state, or from
         ``pose``, ``v`` (``consistent``: the consistent acceleration there; ``substeps`` 0 then), with ``inputs``
         (default: the held ones): ``substeps`` equal steps over ``h`` after the restart (``consistent``, ``shift``),
         the energy sums ``energy`` (dissipated, external work, PTO energy; the initial mechanical energy for the
-        balance) with the PTOs' springs ``ptos``, the outputs (with the balance and the PTOs' outputs) at the end
-        if ``outputs``. Every compiled evaluation of an index-3 run goes through this one entry point (numba
-        compiles it once).
-        Returns (status, substeps done, iterations, retries, keep the factors, stiff restart, out, offsets of out);
-        the formulation's state is not changed (:meth:`take_fused` takes the state reached)."""
+        balance; optionally the powers at the start) with the PTOs' springs ``ptos``, the outputs (with the balance
+        and the PTOs' outputs) at the end if ``outputs``, written into ``out`` (default: a new array; the per-step
+        path's :class:`~mbd_fmu.simulator.FusedBuffers` passes its own, sized for these ``ptos`` and ``outputs``,
+        with the LU buffers allocated). Every compiled evaluation of an index-3 run goes through this one entry
+        point (numba compiles it once), and every call's arguments are assembled here.
+        Returns (status, substeps done, iterations, retries, keep the factors, stiff restart, out, offsets of out
+        (None with ``out`` given: the caller's));
+        the formulation's state is not changed (:meth:`take_fused` takes the state reached) but for the key of the
+        kept LU factors (:attr:`_lu_key`), brought up to date by a call with substeps."""
         cm, m = self.compiled, self.model
         kept = m.kept
-        n, r = m.n, len(kept)
-        nn = n + r
-        if self._lu is None or self._lu.shape[0] != nn:
-            self._lu, self._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
+        at = None  # (the caller's layout when it gives ``out``)
+        if out is None:
+            ptos = _NO_PTOS if ptos is None else ptos
+            at = self._offsets(len(ptos))
+            nn = m.n + len(kept)
+            if self._lu is None or self._lu.shape[0] != nn:
+                self._lu, self._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
+            out = np.empty(at[-1] if outputs else at[11])
         key = self._lu_key
-        have = bool(substeps > 0 and key is not None and key[0] == h / substeps
-                    and (key[1] is kept or np.array_equal(key[1], kept)))
-        ptos = _NO_PTOS if ptos is None else ptos
-        at = self._offsets(len(ptos))
-        fresh = consistent and substeps == 0  # a consistent acceleration only: the state's v' and lambda not read
-        vdot = np.zeros(n) if fresh else self.vdot
-        lam = np.zeros(r) if fresh else self.lam
-        a = vdot if fresh or self.a is None else self.a
+        have = False
+        if substeps > 0 and key is not None:
+            hs = h / substeps
+            have = key[0] == hs and (key[1] is kept or bool(np.array_equal(key[1], kept)))
+        if consistent and substeps == 0:  # a consistent acceleration only: the state's v' and lambda not read
+            vdot, lam, a = np.zeros(m.n), np.zeros(len(kept)), None
+        else:
+            vdot, lam, a = self.vdot, self.lam, self.a
         pose = self.pose if pose is None else pose
+        settings = self.settings
+        delta = getattr(self, "_delta", None)
+        if delta is None:  # (a state saved by an earlier version)
+            c = self.coef
+            delta = self._delta = float(c.alpha_m - c.alpha_f)
         ip, fp = cm.plan()  # PTO commands and angle references of now
-        out = np.empty(at[-1] if outputs else at[11])
         status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
-            ip, fp, pose.r, pose.R, self.v if v is None else v, vdot, a, lam, self.inputs if inputs is None else inputs,
-            cm.refs, float(h), int(substeps), self._coef, float(self.settings.newton_tolerance),
-            float(getattr(self, "length", 1.0)),  # (set by initialize after its consistent acceleration)
-            int(self.settings.max_iterations), self._lu, self._piv, have, bool(consistent), int(shift),
-            0.0 if self.settings.restart == "acceleration" else float(self.coef.alpha_m - self.coef.alpha_f),
-            ptos, _NO_ENERGY if energy is None else energy, out)
+            ip, fp, pose.r, pose.R, self.v if v is None else v, vdot, vdot if a is None else a, lam,
+            self.inputs if inputs is None else inputs, cm.refs, float(h), int(substeps), self._coef,
+            float(settings.newton_tolerance), float(getattr(self, "length", 1.0)),  # (set by initialize)
+            int(settings.max_iterations), self._lu, self._piv, have, bool(consistent), int(shift),
+            0.0 if settings.restart == "acceleration" else delta,
+            _NO_PTOS if ptos is None else ptos, _NO_ENERGY if energy is None else energy, out)
+        if substeps > 0:  # the kept factors: valid for this step size and these rows while the call keeps them
+            if done == 0:
+                if status != 0:
+                    self._lu_key = None  # the factors may have been overwritten
+            elif not keep:
+                self._lu_key = None
+            elif not have or key[1] is not kept:
+                self._lu_key = (h / substeps, kept)
         return status, done, iterations, retries, keep, stiff, out, at
 
-    def take_fused(self, out: np.ndarray, at: np.ndarray) -> None:
+    def take_fused(self, out: np.ndarray, at: np.ndarray, views: tuple | None = None) -> None:
         """The state reached by :meth:`fused` (``t`` and ``steps`` are the caller's): v', lambda, pose, v, a (views
-        of ``out``, a fresh array per call), the angle references' commit, the row quality and the end powers."""
-        nb = self.model.N
-        self.vdot, self.lam = out[at[0]:at[1]], out[at[1]:at[2]]
-        self.pose = Pose(out[at[2]:at[3]].reshape(nb, 3), out[at[3]:at[4]].reshape(nb, 3, 3))
-        self.v, self.a = out[at[4]:at[5]], out[at[5]:at[6]]
-        self.compiled.commit(out[at[6]:at[7]])
-        self._quality = (self.steps, float(out[at[10]]))
+        of ``out``: ``views`` if given, made by :meth:`fused_views`, else new ones), the angle references' commit,
+        the row quality and the end powers."""
+        self.vdot, self.lam, self.pose, self.v, self.a, refs, springs, quality, powers = \
+            views or self.fused_views(out, at)
+        self.compiled.commit(refs)
+        self._quality = (self.steps, out.item(quality))
         # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
-        self.end_powers = (self.steps, float(out[at[8]]), float(out[at[8] + 1]), out[at[9]:at[10]])
+        self.end_powers = (self.steps, out.item(powers), out.item(powers + 1), springs)
+
+    def fused_views(self, out: np.ndarray, at: np.ndarray) -> tuple:
+        """What :meth:`take_fused` takes from :meth:`fused`'s ``out``: views of v', lambda, pose, v, a, the angle
+        references and the springs' dissipated powers, and the positions of the kept rows' quality and of the
+        powers."""
+        nb = self.model.N
+        return (out[at[0]:at[1]], out[at[1]:at[2]], Pose(out[at[2]:at[3]].reshape(nb, 3),
+                                                         out[at[3]:at[4]].reshape(nb, 3, 3)),
+                out[at[4]:at[5]], out[at[5]:at[6]], out[at[6]:at[7]], out[at[9]:at[10]], int(at[10]), int(at[8]))
 
     def _offsets(self, ptos: int = 0) -> np.ndarray:
         """Offsets of :meth:`fused`'s output (:func:`mbd_fmu.kernels.macro_layout`) for the current kept rows and

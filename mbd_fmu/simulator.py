@@ -148,18 +148,9 @@ class MultibodySimulator:
         else:
             energy = buffers.energy_sums
             energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0)
-        key = f._lu_key
-        hs = h / n
-        have = key is not None and key[0] == hs and (key[1] is m.kept or np.array_equal(key[1], m.kept))
-        pose, vdot = f.pose, f.vdot
-        ip, fp = cm.plan()  # PTO commands and angle references of now
-        status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
-            ip, fp, pose.r, pose.R, f.v, vdot, vdot if f.a is None else f.a, f.lam, inputs, cm.refs, float(h), n,
-            f._coef, float(settings.newton_tolerance), f.length, int(settings.max_iterations), f._lu, f._piv, have,
-            consistent, shift, 0.0 if mode == "acceleration" else buffers.delta, buffers.ptos, energy, buffers.target())
+        status, done, iterations, retries, _, stiff, _, _ = f.fused(
+            h, n, consistent, shift, inputs=inputs, energy=energy, ptos=buffers.ptos, out=buffers.target())
         if done == 0:
-            if status != 0:
-                f._lu_key = None  # the factors may have been overwritten
             return False
         self._commands_changed = False
         if changed:
@@ -168,14 +159,11 @@ class MultibodySimulator:
         f.newton_retries += retries
         if stiff:
             f.stiff_restarts += 1
+        hs = h / n
         for _ in range(done):
             f.t += hs
         f.steps += done
         outputs = buffers.take(self)
-        if not keep:
-            f._lu_key = None
-        elif not have or key[1] is not m.kept:
-            f._lu_key = (hs, m.kept)
         if done == n and self.eager_outputs:
             self._outputs = ((f.steps, f.t, id(f.pose), id(f.lam)), outputs)
         elif done == n:
@@ -447,18 +435,14 @@ class FusedBuffers:
         nn = m.n + len(m.kept)
         if f._lu is None or f._lu.shape[0] != nn:
             f._lu, f._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
-        self.delta = float(f.coef.alpha_m - f.coef.alpha_f)
-        nb = m.N
-        self.sides = []
-        for _ in range(2):
+        self.sides, self.views = [], []  # per buffer: (the buffer, v', lambda, pose, v, a, angle references,
+        for _ in range(2):               # springs' powers, named outputs); Index3.take_fused's views of it
             out = np.empty(at[-1] if self.eager else at[11])
-            self.sides.append((out, out[at[0]:at[1]], out[at[1]:at[2]],
-                               Pose(out[at[2]:at[3]].reshape(nb, 3), out[at[3]:at[4]].reshape(nb, 3, 3)),
-                               out[at[4]:at[5]], out[at[5]:at[6]], out[at[6]:at[7]], out[at[9]:at[10]],
-                               sim._split_outputs(out, at) if self.eager else None))
+            views = f.fused_views(out, at)
+            self.views.append(views)
+            self.sides.append((out, *views[:7], sim._split_outputs(out, at) if self.eager else None))
         self.written = 1  # the side the last call wrote (the next call writes the other)
         self.sums = slice(int(at[7]), int(at[7]) + 6)  # energy sums and powers (at[8] = at[7] + 3)
-        self.quality = int(at[10])
         self.energy = np.zeros(7)  # energy sums, initial energy, start powers (the kernel's ``energy``)
         self.energy_sums = self.energy[:4]
 
@@ -480,12 +464,9 @@ class FusedBuffers:
         ``steps`` are the caller's): v', lambda, pose, v, a as views of that buffer, the angle references' commit,
         the row quality, the end powers, the energy sums; returns that buffer's named outputs (eager outputs)."""
         self.written = w = 1 - self.written
-        f = sim.formulation
-        out, f.vdot, f.lam, f.pose, f.v, f.a, refs, springs, outputs = self.sides[w]
-        self.compiled.commit(refs)
-        f._quality = (f.steps, out.item(self.quality))
+        side = self.sides[w]
+        out = side[0]
+        sim.formulation.take_fused(out, self.at, self.views[w])
         sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = out[self.sums].tolist()
         sim._powers = (diss, supply, pto)
-        # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
-        f.end_powers = (f.steps, diss, supply, springs)
-        return outputs
+        return side[8]

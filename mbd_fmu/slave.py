@@ -61,6 +61,9 @@ class MultibodySlave(VectorSlave):
         self.spec = load_spec(self.resources)
         self.system: LinearMultibodySystem | MultibodySimulator | None = None
         self.nonlinear = self.spec.get("multibody", {}).get("formulation", "linear") != "linear"
+        self._pending = set(self._WATCHED.values())  # watched inputs that may have changed (set_real)
+        self._touches: dict[tuple[int, ...], frozenset[str]] = {}
+        self._pending_for: MultibodySimulator | None = None  # the simulator _pending is about
         self.set_default_experiment(self.spec)
         self._register_bodies()
         self._register_coupling()
@@ -240,6 +243,9 @@ class MultibodySlave(VectorSlave):
         model = self.system.model
         self._input_slots = np.array([model.slot_of(b["name"], d) for b in spec["bodies"] for d in b["dofs"]],
                                      dtype=int)
+        # the generalised input vector of each step (None: the input array F is that vector, slot for slot)
+        same = np.array_equal(self._input_slots, np.arange(model.n))
+        self._input_buffer = None if same else np.zeros(model.n)
         if self._coupling:
             coords = [tuple(c) for c in spec["hydro_coordinates"]]
             model.elements.append(LinearisedInputForce(np.array([model.index(b) for b, _ in coords]),
@@ -436,22 +442,63 @@ class MultibodySlave(VectorSlave):
     def _coordinates(self) -> list[tuple[str, int]]:
         return [tuple(c) for c in self.spec["hydro_coordinates"]]
 
+    # Inputs a host seldom changes, looked at by do_step only when they may have changed: after a set_real that wrote
+    # one of them, after a state restore (the restored simulator is a new object; it holds the restored values, looked
+    # at again all the same) and at the first step. "commands": the PTO law (pto.stiffness, pto.damping,
+    # pto.force_command); "coupling": the linearised force interface (F0, F0_rate, dF_dx, dF_dv).
+    _WATCHED = {"pto.stiffness": "commands", "pto.damping": "commands", "pto.force_command": "commands",
+                "F0": "coupling", "F0_rate": "coupling", "dF_dx": "coupling", "dF_dv": "coupling"}
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        super().set_real(vrs, values)
+        key = tuple(vrs)
+        touched = self._touches.get(key)
+        if touched is None:
+            touched = self._touches[key] = self._watched_groups(vrs)
+        if touched:
+            self._pending |= touched
+
+    def _watched_groups(self, vrs: list[int]) -> frozenset[str]:
+        """The groups of :attr:`_WATCHED` that a set_real of ``vrs`` writes."""
+        group_of = {id(array): self._WATCHED[key] for key, array in self._arrays.items() if key in self._WATCHED}
+        return frozenset(group_of[id(self._slot[vr][0])] for vr in vrs
+                         if vr in self._slot and id(self._slot[vr][0]) in group_of)
+
+    def _pto_commands(self) -> list[list[float]]:
+        """(stiffness, damping, force command) of every PTO from the inputs, as Python floats (compared with the
+        PTOs' commands without numpy scalars): one read of the three input arrays, adjacent in the value store."""
+        keys = ("pto.stiffness", "pto.damping", "pto.force_command")
+        stacked = self.__dict__.get("_commands_view")
+        if stacked is None:
+            stacked = self._commands_view = self.stacked(keys)
+            if stacked is None:  # (not adjacent: read one by one)
+                stacked = self._commands_view = False
+        return stacked.tolist() if stacked is not False else [self._arrays[key].tolist() for key in keys]
+
     def _step_nonlinear(self, step_size: float) -> bool:
         sim = self.system
         arrays = self._arrays
-        if sim.ptos:  # (as Python floats: compared with the PTOs' commands without numpy scalars)
-            sim.set_pto_commands(arrays["pto.stiffness"].tolist(), arrays["pto.damping"].tolist(),
-                                 arrays["pto.force_command"].tolist(), defer=not self._coupling)
-        inputs = np.zeros(sim.model.n)
-        inputs[self._input_slots] = arrays["F"]
+        pending = self._pending
+        if sim is not self._pending_for:  # a restored state (always a new simulator): every watched input
+            pending.update(self._WATCHED.values())
+            self._pending_for = sim
+        if sim.ptos and "commands" in pending:
+            sim.set_pto_commands(*self._pto_commands(), defer=not self._coupling)
+        buffer = self._input_buffer
+        if buffer is None:  # every slot is an input, in order: the input array itself (advance copies what it keeps)
+            inputs = arrays["F"]
+        else:
+            inputs = buffer
+            inputs[self._input_slots] = arrays["F"]
         restart = False
         if self._coupling:
             element = sim.model.elements[self._input_force_index()]  # (the element of this state: state copies)
-            values = [arrays[key] for key in ("F0", "F0_rate", "dF_dx", "dF_dv")]
-            if element.active or any(np.count_nonzero(a) for a in values):
-                restart = element.set(sim.time, values[0], values[1], *self._tangents())
-            else:  # inputs left at zero (a master that uses the force F only): what set() would do, for less
+            if element.active or ("coupling" in pending and any(
+                    np.count_nonzero(arrays[key]) for key in ("F0", "F0_rate", "dF_dx", "dF_dv"))):
+                restart = element.set(sim.time, arrays["F0"], arrays["F0_rate"], *self._tangents())
+            else:  # inputs at zero, as the element's (a master that uses the force F only): what set() would do
                 element.t0 = float(sim.time)
+        pending.clear()
         try:
             sim.advance(step_size, inputs, restart=restart)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:

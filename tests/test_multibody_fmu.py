@@ -252,3 +252,102 @@ def test_outputs_gathered_from_the_fused_step_equal_the_outputs_by_groups(barge)
         grouped = slave._get_real_grouped(outputs)
         assert gathered == grouped == one_by_one
     assert any(v != 0.0 for v in gathered)
+
+
+@pytest.mark.parametrize("in_process", [True, False], ids=["in-process", "fmpy"])
+def test_pto_commands_set_through_fmi_act_from_the_next_step_also_after_a_restore(barge, in_process) -> None:
+    """The slave looks at its PTO command inputs only after a set_real wrote one of them or a state was restored
+    (MultibodySlave._pending): a command set through FMI at any step, before or after a restore (serialised or
+    in memory), drives the next step. Checked on the outputs by the PTO law itself, force = -k x - c v + u with the
+    commands set (the hinge barge's linear dash-pot law), each check chosen so that the previous commands give a
+    clearly different force."""
+    scene, fmus = barge
+    comps = make_components(fmus, in_process=in_process)
+    master = JacobiMaster(comps, scene.connections(), 2, Recorder.observed(scene))
+    master.initialize(0.0, 10.0, scene.parameter_links())
+    mbd = comps[MBD]
+    h = scene.scenario.simulation.step
+    commands = mbd.port(["pto.stiffness", "pto.damping", "pto.force_command"])
+    law = mbd.port(["pto.position", "pto.velocity", "pto.force"])
+
+    def holds(k: float, c: float, u: float, other: tuple[float, float, float]) -> np.ndarray:
+        x, v, force = mbd.get_reals(law)
+        assert abs(force - (-k * x - c * v + u)) <= 1e-12 * (abs(k * x) + abs(c * v) + abs(u))
+        k0, c0, u0 = other  # the commands before: they would give another force
+        assert abs(force - (-k0 * x - c0 * v + u0)) > 1e-3 * (abs(k * x) + abs(c * v) + abs(u))
+        return master.outputs[MBD].copy()
+
+    run(master, scene, 40, h)
+    holds(0.0, 850.0, 0.0, (2e3, 3000.0, 40.0))
+    mbd.set_reals(commands, np.array([2e3, 3000.0, 40.0]))
+    run(master, scene, 1, h, 41)
+    holds(2e3, 3000.0, 40.0, (0.0, 850.0, 0.0))
+    checkpoint = master.checkpoint()
+    mbd.set_reals(commands, np.array([0.0, 5000.0, -25.0]))
+    run(master, scene, 1, h, 42)
+    first = holds(0.0, 5000.0, -25.0, (2e3, 3000.0, 40.0))
+    master.restore(checkpoint)  # the commands of the checkpoint: 2e3, 3000, 40
+    mbd.set_reals(commands, np.array([0.0, 5000.0, -25.0]))  # the values the slave saw last, set again
+    run(master, scene, 1, h, 42)
+    np.testing.assert_array_equal(holds(0.0, 5000.0, -25.0, (2e3, 3000.0, 40.0)), first)
+    master.restore(checkpoint)  # nothing set after the restore: the restored commands act
+    run(master, scene, 1, h, 42)
+    holds(2e3, 3000.0, 40.0, (0.0, 5000.0, -25.0))
+    mbd.set_reals(commands, np.array([0.0, 7000.0, 10.0]))
+    in_memory = mbd.get_state()  # in memory (getFMUstate): commands set, not yet used by a step
+    run(master, scene, 1, h, 43)
+    holds(0.0, 7000.0, 10.0, (2e3, 3000.0, 40.0))
+    mbd.set_reals(commands, np.array([2e3, 3000.0, 40.0]))
+    run(master, scene, 1, h, 44)
+    holds(2e3, 3000.0, 40.0, (0.0, 7000.0, 10.0))
+    mbd.set_state(in_memory)  # setFMUstate: the commands set before it was taken act at the next step
+    mbd.free_state(in_memory)
+    run(master, scene, 1, h, 44)
+    holds(0.0, 7000.0, 10.0, (2e3, 3000.0, 40.0))
+    master.terminate()
+
+
+def test_linearised_force_inputs_set_through_fmi_act_from_the_next_step_also_after_a_restore(barge) -> None:
+    """The linearised force interface's inputs (F0, ...), left at zero by a master that uses the force F only, are
+    looked at after a set_real that writes them or a restore: a constant F0 set through FMI moves the barges as the
+    same force through the held input F does (two routes to one force: the same motion within the Newton
+    tolerance), from the step after it is set, also after a restore to a state without it; a restore to a state
+    without it, with nothing set after, gives the motion without it."""
+    _, fmus = barge
+    heave = np.array([0.0, 150.0, 0.0, 0.0, 0.0, 0.0])  # barge1 heave (inputs ordered as the multibody's DOFs)
+
+    def start():  # the multibody FMU alone, in process, its force inputs driven here
+        comp = make_components({MBD: fmus[MBD]}, in_process=True)[MBD]
+        comp.setup(0.0, 10.0)
+        comp.enter_initialization()
+        comp.exit_initialization()
+        return comp
+
+    def motion(comp, steps: int, first: int, force: np.ndarray, f0: np.ndarray | None = None) -> np.ndarray:
+        forces, out = comp.port([v.name for v in comp.model_description.modelVariables if ".F[" in v.name]), []
+        if f0 is not None:
+            comp.set_reals(comp.port([v.name for v in comp.model_description.modelVariables
+                                      if ".F0[" in v.name]), f0)
+        for k in range(first, first + steps):
+            comp.set_reals(forces, force)
+            comp.do_step(k * 0.02, 0.02)
+            out.append(comp.get_reals(comp.port([v.name for v in comp.model_description.modelVariables
+                                                 if ".x[" in v.name])))
+        return np.array(out)
+
+    by_f = start()
+    motion(by_f, 10, 0, np.zeros(6))
+    reference = motion(by_f, 10, 10, heave)
+    assert np.abs(reference).max() > 1e-4  # the force moves the barges
+    by_f0 = start()
+    motion(by_f0, 10, 0, np.zeros(6))
+    state = by_f0.get_state()
+    np.testing.assert_allclose(motion(by_f0, 10, 10, np.zeros(6), f0=heave), reference, rtol=0, atol=1e-9)
+    by_f0.set_state(state)  # before F0 was set: F0 = 0 restored
+    free = motion(by_f0, 10, 10, np.zeros(6))
+    assert np.abs(free - reference).max() > 1e-4  # without the force
+    by_f0.set_state(state)
+    np.testing.assert_allclose(motion(by_f0, 10, 10, np.zeros(6), f0=heave), reference, rtol=0, atol=1e-9)
+    by_f0.free_state(state)
+    for comp in (by_f, by_f0):
+        comp.terminate()

@@ -175,3 +175,25 @@ def test_a_saved_state_is_a_copy_that_later_steps_do_not_overwrite() -> None:
         steps(restored, 20)
         for key, value in state(restored).items():
             assert np.array_equal(value, final[key]), key
+
+
+def test_pto_parameters_set_on_the_element_act_from_the_next_fused_step() -> None:
+    """The compiled plan rewrites a spring's parameters only when they differ from those it last wrote
+    (CompiledModel._refresh), but reads them from the Python element at every step: a PTO's stiffness, damping or
+    force command assigned on the element itself (not through set_pto_commands), or set back to an earlier value,
+    drives the next fused macro step. Checked on the PTO outputs by the element's own law (its nonlinear law of
+    g = -k x - c v + u with the parameters of now)."""
+    model, pose, v = two_bodies("revolute")
+    pto = next(e for e in model.elements if e.name == "pto")
+    sim = MultibodySimulator(model, Settings("index3", spectral_radius=0.8), MAX_STEP, [pto])
+    sim.start(pose, v)
+    forced = np.array([dof < 3 for _, dof in model.coordinates])
+    for k, (stiffness, damping, command) in enumerate([(300.0, 40.0, 0.0), (300.0, 90.0, 0.0), (500.0, 90.0, 7.0),
+                                                       (300.0, 40.0, 0.0), (300.0, 40.0, -3.0)]):
+        pto.stiffness, pto.damping, pto.force_command = stiffness, damping, command
+        for j in range(5):
+            sim.advance(H, 20.0 * forced * np.sin(3.0 * (5 * k + j) * H + np.arange(model.n)))
+        assert sim._buffers is not None and sim._outputs is None  # the fused path ran (outputs when read)
+        x, rate, force, _ = sim.pto_outputs()[0]
+        expected = pto.law_force(x, rate)
+        assert abs(force - expected) <= 1e-12 * max(abs(expected), 1.0)
