@@ -24,14 +24,12 @@ from pathlib import Path
 
 import numpy as np
 
-from fmu_base._jit import source_stamp
+from fmu_base._jit import cache_base, source_stamp
 
 
 def cache_root() -> Path:
     """``$WEC_COSIM_CACHE/fits`` (default ``~/.cache/wec-cosim/fits``)."""
-    base = os.environ.get("WEC_COSIM_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim")
-    return Path(base) / "fits"
+    return cache_base() / "fits"
 
 
 def fit_key(kind: str, inputs: Mapping[str, np.ndarray | float], code: str | Path) -> str:
