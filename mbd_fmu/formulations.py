@@ -138,6 +138,8 @@ class Settings:
 class Formulation:
     """Shared state and the consistent (index-1) acceleration."""
 
+    length = 1.0  # the model's length scale of the Newton tolerance (m), set by initialize
+
     def __init__(self, model: MultibodyModel, settings: Settings) -> None:
         self.model = model
         self.settings = settings
@@ -293,6 +295,8 @@ class Formulation:
 
 class Index3(Formulation):
     """Index-3 DAE, Lie group generalised-alpha (module docstring)."""
+
+    _delta: float | None = None  # alpha_m - alpha_f (states saved by earlier versions: computed when first needed)
 
     def __init__(self, model: MultibodyModel, settings: Settings) -> None:
         super().__init__(model, settings)
@@ -486,7 +490,7 @@ class Index3(Formulation):
         (None with ``out`` given: the caller's));
         the formulation's state is not changed (:meth:`take_fused` takes the state reached) but for the key of the
         kept LU factors (:attr:`_lu_key`), brought up to date by a call with substeps."""
-        cm, m = self.compiled, self.model
+        cm, m = self._compiled or self.compiled, self.model  # (the view made once: callers are on the compiled path)
         kept = m.kept
         at = None  # (the caller's layout when it gives ``out``)
         if out is None:
@@ -507,16 +511,16 @@ class Index3(Formulation):
             vdot, lam, a = self.vdot, self.lam, self.a
         pose = self.pose if pose is None else pose
         settings = self.settings
-        delta = getattr(self, "_delta", None)
+        delta = self._delta
         if delta is None:  # (a state saved by an earlier version)
             c = self.coef
             delta = self._delta = float(c.alpha_m - c.alpha_f)
         ip, fp = cm.plan()  # PTO commands and angle references of now
         status, done, iterations, retries, keep, stiff = kernels.ga_macro_step(
             ip, fp, pose.r, pose.R, self.v if v is None else v, vdot, vdot if a is None else a, lam,
-            self.inputs if inputs is None else inputs, cm.refs, float(h), int(substeps), self._coef,
-            float(settings.newton_tolerance), float(getattr(self, "length", 1.0)),  # (set by initialize)
-            int(settings.max_iterations), self._lu, self._piv, have, bool(consistent), int(shift),
+            self.inputs if inputs is None else inputs, cm.refs, float(h), substeps, self._coef,
+            float(settings.newton_tolerance), self.length, int(settings.max_iterations), self._lu, self._piv, have,
+            consistent, shift,
             0.0 if settings.restart == "acceleration" else delta,
             _NO_PTOS if ptos is None else ptos, _NO_ENERGY if energy is None else energy, out)
         if substeps > 0:  # the kept factors: valid for this step size and these rows while the call keeps them
@@ -529,16 +533,20 @@ class Index3(Formulation):
                 self._lu_key = (h / substeps, kept)
         return status, done, iterations, retries, keep, stiff, out, at
 
-    def take_fused(self, out: np.ndarray, at: np.ndarray, views: tuple | None = None) -> None:
+    def take_fused(self, out: np.ndarray, at: np.ndarray, views: tuple | None = None) -> list[float]:
         """The state reached by :meth:`fused` (``t`` and ``steps`` are the caller's): v', lambda, pose, v, a (views
         of ``out``: ``views`` if given, made by :meth:`fused_views`, else new ones), the angle references' commit,
-        the row quality and the end powers."""
+        the row quality and the end powers. Returns the call's energy sums and the powers at the end (dissipated,
+        external work, PTO energy; dissipated, supplied and PTO power), :meth:`fused`'s ``energy`` of the next
+        step."""
         self.vdot, self.lam, self.pose, self.v, self.a, refs, springs, quality, powers = \
             views or self.fused_views(out, at)
-        self.compiled.commit(refs)
+        self._compiled.commit(refs)  # (the compiled view fused used)
         self._quality = (self.steps, out.item(quality))
+        sums = out[powers - 3:powers + 3].tolist()  # (the energy sums just before the powers: macro_layout)
         # the powers at the new state (MultibodySimulator.powers), valid until a restart or the next step
-        self.end_powers = (self.steps, out.item(powers), out.item(powers + 1), springs)
+        self.end_powers = (self.steps, sums[3], sums[4], springs)
+        return sums
 
     def fused_views(self, out: np.ndarray, at: np.ndarray) -> tuple:
         """What :meth:`take_fused` takes from :meth:`fused`'s ``out``: views of v', lambda, pose, v, a, the angle

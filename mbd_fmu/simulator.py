@@ -41,6 +41,10 @@ class MultibodySimulator:
     # The fused macro step also computes the outputs at its end (a host that reads them every step, as the FMU
     # does, saves a second call); False: outputs computed when first read (a loop that reads few of them).
     eager_outputs = False
+    # defaults of attributes that states saved by earlier versions lack (plain attribute reads on the per-step path)
+    fused = True  # False: never one compiled call per macro step (comparisons, benchmarks)
+    _commands_changed = False  # PTO commands changed (set_pto_commands(defer=True)), not yet taken by a restart
+    _buffers: FusedBuffers | None = None
 
     def __init__(self, model: MultibodyModel, settings: Settings, max_step: float = 0.0,
                  ptos: list[CoordinateSpringDamper] = ()) -> None:
@@ -51,7 +55,6 @@ class MultibodySimulator:
         # positions of the PTOs among the model's elements (indices survive the deep copies of FMU states)
         self._pto_index = [i for i, e in enumerate(model.elements) if any(e is p for p in self.ptos)]
         self.formulation = make_formulation(model, settings)
-        self.fused = True  # False: never one compiled call per macro step (comparisons, benchmarks)
         self.report: MobilityReport | None = None
 
     # ------------------------------------------------------------------ start
@@ -84,7 +87,7 @@ class MultibodySimulator:
         f = self.formulation
         if not restart and self._advance_fused(h, n, inputs):
             return
-        if getattr(self, "_commands_changed", False):  # PTO commands changed (set_pto_commands(defer=True))
+        if self._commands_changed:
             self._commands_changed = False
             f.on_restart()
         if inputs is not None or restart:
@@ -116,7 +119,7 @@ class MultibodySimulator:
         outputs choice change) and the state reached is written in place into the arrays the formulation holds
         (:meth:`FusedBuffers.take`); a copy of the state (FMU state, checkpoint) holds copies of them."""
         f = self.formulation
-        if not isinstance(f, Index3) or not getattr(self, "fused", True):  # (absent from earlier versions' states)
+        if not isinstance(f, Index3) or not self.fused:
             return False
         f.check_model()
         m = self.model
@@ -136,9 +139,9 @@ class MultibodySimulator:
             inputs = inputs.copy() if changed else held
         settings = f.settings
         mode = settings.restart
-        consistent = mode != "none" and (getattr(self, "_commands_changed", False) or changed)
+        consistent = mode != "none" and (self._commands_changed or changed)
         shift = 1 if f.a is None or (consistent and mode != "increment") else (2 if consistent else 0)
-        buffers = getattr(self, "_buffers", None)
+        buffers = self._buffers
         if buffers is None or not buffers.serves(f, cm, m.kept, self.eager_outputs):
             buffers = self._buffers = FusedBuffers(self)
         end = f.end_powers  # the powers now, from the step that led here (None after a restart or new commands)
@@ -148,8 +151,8 @@ class MultibodySimulator:
         else:
             energy = buffers.energy_sums
             energy[:] = (self.dissipated, self.work, self.pto_energy, self.energy0)
-        status, done, iterations, retries, _, stiff, _, _ = f.fused(
-            h, n, consistent, shift, inputs=inputs, energy=energy, ptos=buffers.ptos, out=buffers.target())
+        status, done, iterations, retries, _, stiff, _, _ = f.fused(  # (positional: the per-step path)
+            h, n, consistent, shift, None, None, inputs, energy, buffers.ptos, False, buffers.target())
         if done == 0:
             return False
         self._commands_changed = False
@@ -442,7 +445,6 @@ class FusedBuffers:
             self.views.append(views)
             self.sides.append((out, *views[:7], sim._split_outputs(out, at) if self.eager else None))
         self.written = 1  # the side the last call wrote (the next call writes the other)
-        self.sums = slice(int(at[7]), int(at[7]) + 6)  # energy sums and powers (at[8] = at[7] + 3)
         self.energy = np.zeros(7)  # energy sums, initial energy, start powers (the kernel's ``energy``)
         self.energy_sums = self.energy[:4]
 
@@ -465,8 +467,7 @@ class FusedBuffers:
         the row quality, the end powers, the energy sums; returns that buffer's named outputs (eager outputs)."""
         self.written = w = 1 - self.written
         side = self.sides[w]
-        out = side[0]
-        sim.formulation.take_fused(out, self.at, self.views[w])
-        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = out[self.sums].tolist()
+        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = sim.formulation.take_fused(side[0], self.at,
+                                                                                                self.views[w])
         sim._powers = (diss, supply, pto)
         return side[8]
