@@ -16,12 +16,16 @@ assembly, state update, outputs, the FMU wrapper's input and command handling; P
 overhead, ~10 us per call, is not in it: in process). Figures: the median over ``--repeats`` blocks of the
 microseconds per step (each block 2000 steps for the mechanisms, 300 macro steps for the FMU).
 
-A/B against another checkout: ``PYTHONPATH=<checkout> python benchmarks/bench_step_glue.py`` run from that
-checkout's root, alternating with this one (this VM's timings drift between processes: compare the ratios, several
-alternating runs).
+A/B against a git revision: ``--baseline REV`` runs the measurement in alternating child processes, ``--rounds``
+times each, on the packages of REV (extracted with ``git archive``) and on this tree, with the thread's CPU time
+as the clock (robust to a loaded machine; ``--clock wall`` for wall time) and two more figures per mechanism:
+``glue only``, the same ``advance`` calls with ``ga_macro_step`` replaced by a stub that reports one substep done
+(the Python around the call alone, without the kernel's cache effects on it), and the minimum over the blocks
+besides their median. Reported: min over the rounds and the median of the rounds.
 
 Run: python benchmarks/bench_step_glue.py --out benchmarks/results/step_glue.txt  (about 1 min, compiled kernels
-cached)
+cached); A/B: python benchmarks/bench_step_glue.py --baseline main --out benchmarks/results/step_glue_ab.txt
+(about 3 min)
 """
 
 from __future__ import annotations
@@ -39,6 +43,8 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.common import report_header, write_report  # noqa: E402
 
+TIMER = time.perf_counter  # wall clock (default); --clock cpu: the calling thread's CPU time
+
 
 class KernelClock:
     """Times every call of ``kernels.ga_macro_step`` (the compiled entry point the fused path calls) while active."""
@@ -52,11 +58,11 @@ class KernelClock:
         real = self.real
 
         def timed(*args):  # noqa: ANN002, ANN202
-            t0 = time.perf_counter()
+            t0 = TIMER()
             try:
                 return real(*args)
             finally:
-                self.seconds += time.perf_counter() - t0
+                self.seconds += TIMER() - t0
 
         self.kernels.ga_macro_step = timed
         return self
@@ -65,29 +71,55 @@ class KernelClock:
         self.kernels.ga_macro_step = self.real
 
 
-def blocks(step, count: int, repeats: int, clock: KernelClock) -> tuple[float, float]:  # noqa: ANN001
-    """Median over ``repeats`` blocks of ``count`` calls of ``step``: (whole us per call, kernel us per call)."""
+def blocks(step, count: int, repeats: int, clock: KernelClock, best: bool = False) -> tuple[float, float]:  # noqa: ANN001
+    """Median (``best``: minimum) over ``repeats`` blocks of ``count`` calls of ``step`` of the Python around the
+    kernel: (whole us per call, kernel us per call) of that block."""
     whole, kernel = [], []
     for _ in range(repeats):
         clock.seconds = 0.0
-        t0 = time.perf_counter()
+        t0 = TIMER()
         for _ in range(count):
             step()
-        whole.append((time.perf_counter() - t0) / count * 1e6)
+        whole.append((TIMER() - t0) / count * 1e6)
         kernel.append(clock.seconds / count * 1e6)
     order = np.argsort(np.array(whole) - np.array(kernel))
-    k = order[len(order) // 2]
+    k = order[0 if best else len(order) // 2]
     return whole[k], kernel[k]
 
 
-def mechanism(build, repeats: int, clock: KernelClock) -> tuple[float, float]:  # noqa: ANN001
+def glue_only(build, repeats: int) -> float:  # noqa: ANN001
+    """us per ``advance`` of a mechanism with ``ga_macro_step`` replaced by a stub that reports one substep done and
+    the factors kept (the state is not moved): the Python around the call alone; minimum over ``repeats`` blocks of
+    2000 calls."""
+    from bench_speed import run_ours
+
+    from mbd_fmu import kernels
+
+    _, sim = run_ours(build, "index3", 1e-3, 300)
+    f, real = sim.formulation, kernels.ga_macro_step
+    steps = f.steps
+    kernels.ga_macro_step = lambda *args: (0, 1, 2, 0, True, False)
+    try:
+        times = []
+        for _ in range(repeats):
+            t0 = TIMER()
+            for _ in range(2000):
+                f.steps, f._quality = steps, (steps, 1.0)  # (redundant rows: their quality stays current)
+                sim.advance(1e-3)
+            times.append((TIMER() - t0) / 2000 * 1e6)
+    finally:
+        kernels.ga_macro_step = real
+    return min(times)
+
+
+def mechanism(build, repeats: int, clock: KernelClock, best: bool = False) -> tuple[float, float]:  # noqa: ANN001
     from bench_speed import run_ours
 
     _, sim = run_ours(build, "index3", 1e-3, 300)
-    return blocks(lambda: sim.advance(1e-3), 2000, repeats, clock)
+    return blocks(lambda: sim.advance(1e-3), 2000, repeats, clock, best)
 
 
-def hinge_barge_fmu(repeats: int, clock: KernelClock) -> tuple[float, float]:
+def hinge_barge_fmu(repeats: int, clock: KernelClock, best: bool = False) -> tuple[float, float]:
     from orchestrator import components as C
     from orchestrator import simulation as S
     from orchestrator.scenario import load_scenario
@@ -132,30 +164,112 @@ def hinge_barge_fmu(repeats: int, clock: KernelClock) -> tuple[float, float]:
 
     for _ in range(100):
         step()
-    return blocks(step, 300, repeats, clock)
+    return blocks(step, 300, repeats, clock, best)
+
+
+def measure(repeats: int) -> dict[str, dict[str, float]]:
+    """Per case, us per step: whole call, kernel inside it and the Python around it, of the median and of the
+    fastest block; per mechanism also the glue alone (stubbed kernel)."""
+    from bench_speed import four_bar_model, pendulum_model
+
+    cases = {"pendulum": lambda clock, best: mechanism(pendulum_model, repeats, clock, best),
+             "four-bar": lambda clock, best: mechanism(four_bar_model, repeats, clock, best),
+             "hinge barge (FMU)": lambda clock, best: hinge_barge_fmu(repeats, clock, best)}
+    out: dict[str, dict[str, float]] = {}
+    with KernelClock() as clock:
+        for name, run in cases.items():
+            out[name] = {}
+            for block, best in (("median block", False), ("best block", True)):
+                whole, kernel = run(clock, best)
+                out[name].update({f"whole ({block})": whole, f"kernel ({block})": kernel,
+                                  f"around ({block})": whole - kernel})
+    for name, build in (("pendulum", pendulum_model), ("four-bar", four_bar_model)):
+        out[name]["glue only (best block)"] = glue_only(build, repeats)
+    return out
+
+
+def baseline_tree(ref: str, tmp: Path) -> Path:
+    """The packages of git revision ``ref`` extracted into ``tmp`` (the compiled kernels' cache is keyed on
+    content)."""
+    import subprocess
+
+    packages = ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator"]
+    archive = subprocess.run(["git", "archive", ref, *packages], cwd=ROOT, capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
+    return tmp
+
+
+def ab(args: argparse.Namespace) -> list[str]:
+    """Alternating child processes on the baseline revision's packages and this tree's, ``--rounds`` times each."""
+    import json
+    import subprocess
+
+    runs: dict[str, list[dict]] = {"baseline": [], "this tree": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        trees = {"baseline": baseline_tree(args.baseline, Path(tmp)), "this tree": ROOT}
+        for _ in range(args.rounds):
+            for label, tree in trees.items():
+                cmd = [sys.executable, __file__, "--tree", str(tree), "--json", "--repeats", str(args.repeats),
+                       "--clock", args.clock]
+                result = subprocess.run(cmd, capture_output=True, text=True, check=True)
+                runs[label].append(json.loads(result.stdout.splitlines()[-1]))
+    lines = [f"# A/B in alternating processes, {args.rounds} rounds: baseline = the packages of {args.baseline}, this "
+             f"tree = the working tree; us per step of {args.clock} time, min over the rounds (median of the rounds)",
+             f"{'case':<20} {'figure':<24} {'baseline':>16} {'this tree':>16} {'ratio':>6}"]
+    for case, figures in runs["baseline"][0].items():
+        for figure in figures:
+            a = [r[case][figure] for r in runs["baseline"]]
+            b = [r[case][figure] for r in runs["this tree"]]
+            lines.append(f"{case:<20} {figure:<24} {min(a):7.1f} ({np.median(a):6.1f}) {min(b):7.1f} "
+                         f"({np.median(b):6.1f}) {min(b) / min(a):6.2f}")
+    return lines
 
 
 def main() -> None:
+    global TIMER
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--clock", choices=("wall", "cpu"), default=None,
+                        help="timer: wall clock (default) or the thread's CPU time (default with --baseline)")
+    parser.add_argument("--baseline", help="git revision to compare with in alternating processes, e.g. main")
+    parser.add_argument("--rounds", type=int, default=3, help="A/B rounds (processes per side)")
+    parser.add_argument("--tree", type=Path, help=argparse.SUPPRESS)  # (A/B child: the packages from here)
+    parser.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", default="")
     args = parser.parse_args()
-    sys.path.insert(0, str(ROOT / "benchmarks"))
+    args.clock = args.clock or ("cpu" if args.baseline or args.json else "wall")
+    if args.clock == "cpu":
+        TIMER = time.thread_time
+    if args.tree:
+        sys.path.insert(0, str(args.tree.resolve()))
+    sys.path.insert(1 if args.tree else 0, str(ROOT / "benchmarks"))
+    from benchmarks.common import load
+
+    if args.baseline:
+        lines = [*report_header("bench_step_glue.py"), *ab(args), f"# load average at the end {load()}"]
+        write_report(lines, args.out or None)
+        return
+    if args.json:
+        import json
+
+        import mbd_fmu
+        assert args.tree is None or Path(mbd_fmu.__file__).resolve().parent.parent == args.tree.resolve()
+        print(json.dumps(measure(args.repeats)))
+        return
     from bench_speed import four_bar_model, pendulum_model
 
     import mbd_fmu
 
     lines = [*report_header("bench_step_glue.py"), f"# mbd_fmu from {Path(mbd_fmu.__file__).parent.parent}",
-             "# us per step, median block: whole call, kernel (ga_macro_step) inside it, around = whole - kernel",
+             f"# us per step ({args.clock} time), median block: whole call, kernel (ga_macro_step) inside it, "
+             "around = whole - kernel",
              f"{'case':<20} {'whole':>8} {'kernel':>8} {'around':>8}"]
     with KernelClock() as clock:
-        for name, measure in (("pendulum", lambda: mechanism(pendulum_model, args.repeats, clock)),
-                              ("four-bar", lambda: mechanism(four_bar_model, args.repeats, clock)),
-                              ("hinge barge (FMU)", lambda: hinge_barge_fmu(args.repeats, clock))):
-            whole, kernel = measure()
+        for name, measure_case in (("pendulum", lambda: mechanism(pendulum_model, args.repeats, clock)),
+                                   ("four-bar", lambda: mechanism(four_bar_model, args.repeats, clock)),
+                                   ("hinge barge (FMU)", lambda: hinge_barge_fmu(args.repeats, clock))):
+            whole, kernel = measure_case()
             lines.append(f"{name:<20} {whole:8.1f} {kernel:8.1f} {whole - kernel:8.1f}")
-    from benchmarks.common import load
-
     lines.append(f"# load average at the end {load()}")
     write_report(lines, args.out or None)
 
