@@ -454,6 +454,8 @@ class MultibodySlave(VectorSlave):
         key = tuple(vrs)
         touched = self._touches.get(key)
         if touched is None:
+            if len(self._touches) >= 256:  # (a host uses a handful of lists; bounded all the same)
+                self._touches.clear()
             touched = self._touches[key] = self._watched_groups(vrs)
         if touched:
             self._pending |= touched
