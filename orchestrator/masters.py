@@ -19,9 +19,10 @@ Masters (all steps of length h from t_n to t_{n+1}; measured orders in ``docs/ma
   from the integrators' outputs *predicted* at t_{n+1} (point extrapolation of degree p), and the
   integrators step with the step average of the polynomial through u_{n+1}, u_n, ... (an
   *interpolation*). Same orders as Jacobi (1 for p = 0, 2 otherwise), smaller constants.
-* :class:`~orchestrator.iterative_master.IterativeMaster` - as Gauss-Seidel, but the integrators' outputs at t_{n+1} are iterated
-  to consistency with rollback through ``fmi2GetFMUstate``/``fmi2SetFMUstate``: fixed point with
-  Aitken's dynamic relaxation (``solver="aitken"``) or the interface quasi-Newton IQN-ILS
+* :class:`~orchestrator.iterative_master.IterativeMaster` - as Gauss-Seidel, but the integrators'
+  outputs at t_{n+1} are iterated to consistency with rollback through
+  ``fmi2GetFMUstate``/``fmi2SetFMUstate``: fixed point with Aitken's dynamic relaxation
+  (``solver="aitken"``) or the interface quasi-Newton IQN-ILS
   (Degroote et al. 2009, least-squares secant model from the residual differences of the current
   and ``reuse`` previous steps; ``solver="iqn_ils"``). Converged, it is the implicit scheme whose
   integrator input is the step average of the interpolant through the consistent u_{n+1}:
