@@ -190,7 +190,9 @@ def mobility(scene: Scene) -> dict | None:
     FMU's own analysis, ``mbd_fmu.assembly.analyse``, run in-process), or None for the linear model."""
     if scene.scenario.formulation == "linear":
         return None
-    r = scene.multibody_simulator().report
+    from mbd_fmu.spec import mobility_report
+
+    r = mobility_report(scene.mbd_spec(dynamic_lines=False))
     return {"coordinates": r.coordinates, "constraints": r.constraints, "rank": r.rank, "dof": r.dof,
             "redundant": list(r.redundant), "summary": r.summary()}
 
