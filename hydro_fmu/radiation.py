@@ -39,6 +39,9 @@ import numpy as np
 
 from .transforms import fourier_integral
 
+# Points that share one pass over the convolution weights (hydro_fmu.kernels.blocked_memory): hinge barge in an
+# fmpy run, hydro get_reals per macro step, B = 1 / 4 / 8 / 16 (benchmarks/results/hydro_block.txt)
+BLOCK_POINTS = 8
 # Tail correction of :func:`kramers_kronig_tail`: hats at Omega r^j, j = 1..count, ridge weight.
 TAIL_RATIO = 1.25
 TAIL_COUNT = 3
@@ -195,7 +198,14 @@ class RadiationMemory:
     ring buffer (grid point s at rows s mod m and s mod m + m), and all the trapezoidal weights one
     (n, m n) matrix, so the force is a single matrix-vector product (about 11 us for n = 6,
     m = 1500 here) and committing a point writes no more than its own rows.
+
+    The compiled pass (:func:`hydro_fmu.kernels.blocked_memory`) shares one pass over the weights between
+    the next ``block_points`` points: the part of their sums that reaches only into committed velocities is
+    computed once into ``_history``, described by ``_block`` ([valid, first committed point excluded, stride,
+    count]). Both are derived data: not part of the state (:meth:`__getstate__`), recomputed after a restore.
     """
+
+    block_points = BLOCK_POINTS
 
     def __init__(self, kernel: np.ndarray, dt: float) -> None:
         m, n, _ = kernel.shape
@@ -215,6 +225,21 @@ class RadiationMemory:
         self._last = np.zeros(n)  # velocity at the last committed grid point
         self.gap = 1  # grid steps from the last committed point to the current time
         self.steps = 0  # grid points committed so far
+        self._clear_block()
+
+    def _clear_block(self) -> None:
+        """No block of history sums (:func:`hydro_fmu.kernels.blocked_memory` starts one at the next point)."""
+        self._history = np.zeros((self.block_points, self.n))
+        self._block = np.zeros(4, dtype=np.int64)
+
+    def __getstate__(self) -> dict:
+        """The state without the block of history sums (derived data, recomputed at the next point): a copy or
+        a saved state never carries sums that could belong to another history."""
+        return {k: v for k, v in self.__dict__.items() if k not in ("_history", "_block")}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._clear_block()
 
     @property
     def current(self) -> int:
