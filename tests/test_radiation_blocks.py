@@ -80,7 +80,8 @@ def _kernel(m: int = M) -> np.ndarray:
 @pytest.mark.parametrize("steps", [(1,), (3,), (1, 4, 2, 7, 1, 13), (2, 2, 2, 5, 5, 1, 1, 1), (50,)])
 def test_blocked_sum_is_the_direct_trapezoidal_sum(steps: tuple[int, ...]) -> None:
     """Communication every q grid steps (q cycling through ``steps``: constant, several grid steps, changes inside
-    a block, a step longer than the kernel), every point evaluated with two other velocities before its own: the blocked sum equals the direct sum at every point from the first one on."""
+    a block, a step longer than the kernel), every point evaluated with two other velocities before its own: the
+    blocked sum equals the direct sum at every point from the first one on."""
     run = Run(_kernel())
     points = 60
     for k in range(points):
