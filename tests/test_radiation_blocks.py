@@ -137,3 +137,35 @@ def test_kernel_shorter_than_a_block() -> None:
     for k in range(30):
         run.point((1, 1, 2, 1, 3, 4, 5)[k % 7], trials=1)
     assert run.block_starts
+
+
+def test_model_outputs_with_a_memory_restored_from_a_state_without_blocks() -> None:
+    """A RadiationMemory decoded from a state saved before the blocks existed has no block arrays (the codec
+    removes attributes the saved object did not have): the compiled pass makes new ones and the forces stay those of
+    the reference path."""
+    from hydro_fmu.work import COMPONENTS, WorkAccount
+    from orchestrator.scenario import load_scenario
+    from orchestrator.scene import load_scene
+
+    from .conftest import SCENARIOS
+
+    scene = load_scene(load_scenario(SCENARIOS / "hinge_barge.toml"), log=None)
+    model = scene.hydro_model()
+    reference = copy.deepcopy(model)
+    h, n = scene.scenario.simulation.step, model.n
+    rows = np.arange(5, dtype=np.intp)
+    out, power, energy = np.zeros((5, n)), np.zeros(len(COMPONENTS)), np.zeros(len(COMPONENTS))
+    account = WorkAccount()
+    for k in range(30):
+        t = k * h
+        v, x = 0.2 * np.sin(0.9 * t + np.arange(n)), 0.1 * np.cos(0.5 * t + np.arange(n))
+        if k == 13:  # inside the second block
+            del model.radiation._history, model.radiation._block
+        model.outputs(t, x, v, rows, out, power, account, energy)
+        f = reference.forces(t, x, v)
+        scale = max(np.abs(f.total).max(), 1.0)
+        np.testing.assert_allclose(out[2], f.radiation, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(out[0], f.total, rtol=0, atol=1e-12 * scale)
+        account.commit(t, power)
+        model.advance(t, h, v)
+        reference.advance(t, h, v)
