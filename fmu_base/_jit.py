@@ -91,14 +91,19 @@ def source_stamp(py_file: str | Path) -> str:
     return digest.hexdigest()[:20]
 
 
+def cache_base() -> Path:
+    """The toolkit's cache folder: ``$WEC_COSIM_CACHE``, default ``$XDG_CACHE_HOME/wec-cosim`` or
+    ``~/.cache/wec-cosim`` (built FMUs in ``fmus/``, compiled kernels in ``numba/``, fits in ``fits/``)."""
+    return Path(os.environ.get("WEC_COSIM_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim"))
+
+
 def cache_root() -> Path:
     """Folder of the compiled kernels: ``$WEC_COSIM_NUMBA_CACHE`` if set (the test suite shares one across its
     processes while each session builds its FMUs into a private cache), else beside the FMU cache."""
     if os.environ.get("WEC_COSIM_NUMBA_CACHE"):
         return Path(os.environ["WEC_COSIM_NUMBA_CACHE"])
-    base = os.environ.get("WEC_COSIM_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim")
-    return Path(base) / "numba"
+    return cache_base() / "numba"
 
 
 try:

@@ -33,6 +33,7 @@ from pathlib import Path
 import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
+from fmu_base._jit import cache_base
 from hydro_fmu.bemio import write_bemio
 
 from .pythonfmu_patch import patch_library
@@ -65,9 +66,7 @@ RECIPES = {
 
 
 def cache_dir() -> Path:
-    base = os.environ.get("WEC_COSIM_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "wec-cosim")
-    return Path(base) / "fmus"
+    return cache_base() / "fmus"
 
 
 def build_scene_fmus(scene: Scene, out_dir: Path | None = None, multibody: str = MBD) -> dict[str, Path]:

@@ -120,6 +120,11 @@ class _Wiring:
     port: Port | None
     sources: list[tuple[str, np.ndarray, np.ndarray]]  # (source component, input positions, output positions)
 
+    def __post_init__(self) -> None:
+        # One source feeding every input in order (the usual wiring): the inputs are one take of its outputs.
+        self.direct = (len(self.sources) == 1 and self.port is not None
+                       and np.array_equal(self.sources[0][1], np.arange(len(self.port.vrs))))
+
 
 @dataclass
 class _StepRecord:
@@ -260,6 +265,9 @@ class Master:
     # ------------------------------------------------------------------ data movement
     def _gather(self, name: str, outputs: dict[str, np.ndarray]) -> np.ndarray:
         w = self.wiring[name]
+        if w.direct:
+            src, _, out = w.sources[0]
+            return outputs[src].take(out)
         u = np.empty(len(w.port.vrs))
         for src, pos, out in w.sources:
             u[pos] = outputs[src][out]
@@ -280,9 +288,12 @@ class Master:
 
     def _read(self, name: str) -> np.ndarray:
         values = self.components[name].get_reals(self.output_ports[name])
-        limit = self._limits(name, values)
-        # One comparison catches NaN (comparison false), infinities and values beyond the limit.
-        if values.size and not (np.abs(values) <= limit).all():
+        limit = self._divergence_limits.get(name)
+        if limit is None:
+            limit = self._limits(name, values)
+        # One reduction catches NaN (the maximum propagates it and the comparison is then false), infinities and
+        # values beyond the limit.
+        if values.size and not np.maximum.reduce(np.abs(values) - limit) <= 0.0:
             bad = ~(np.abs(values) <= limit)
             k = int(np.argmax(bad))
             var = self.output_names[name][k]
@@ -344,11 +355,9 @@ class Master:
         if p == 0:
             return hist[0][1].copy()
         now = self.time
-        w = self._weights(tuple([hist[j][0] - now for j in range(p + 1)]), h)
-        out = w[0] * hist[0][1]
-        for j in range(1, p + 1):
-            out += w[j] * hist[j][1]
-        return out
+        samples = [hist[j] for j in range(p + 1)]
+        w = self._weights(tuple([t - now for t, _ in samples]), h)
+        return np.dot(w, [u for _, u in samples])
 
     def _interpolated_input(self, name: str, h: float, u_next: np.ndarray) -> np.ndarray:
         """Step average of the polynomial through u_{n+1} (given) and the last p input samples."""

@@ -81,9 +81,20 @@ class ResultsWriter:
     def append_values(self, values: np.ndarray, extra: dict[str, np.ndarray | float] | None = None) -> None:
         """Add one sample given as the leading columns of a row (:func:`row_layout` of the series, in order;
         ``values`` may cover only the first series), the others from ``extra`` by name (missing: NaN)."""
-        line = self.buffer[self.rows]
         k = len(values)
-        line[:k] = values
+        self.buffer[self.rows, :k] = values
+        self.commit_line(k, extra)
+
+    def next_line(self) -> np.ndarray:
+        """The buffer row the next sample goes into: write its leading columns in place, then
+        :meth:`commit_line` (what :meth:`append_values` does without the copy of a row)."""
+        return self.buffer[self.rows]
+
+    def commit_line(self, filled: int, extra: dict[str, np.ndarray | float] | None = None) -> None:
+        """Add the row of :meth:`next_line`, its first ``filled`` columns written; the others from ``extra`` by
+        name (missing: NaN)."""
+        line = self.buffer[self.rows]
+        k = filled
         if k < len(line):
             line[k:] = np.nan
             for name, value in (extra or {}).items():

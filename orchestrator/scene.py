@@ -28,6 +28,7 @@ from mbd_fmu.force_elements import LinearPTO
 from mbd_fmu.linear_system import LinearMultibodySystem
 
 from .errors import ScenarioError
+from .fit_cache import cached_fit
 from .progress import BemProgress
 from .scenario import DOFS, BodySection, Scenario
 
@@ -112,14 +113,23 @@ def _kramers_kronig(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabas
     ``extra``."""
     import dataclasses
 
-    from hydro_fmu.radiation import kramers_kronig_tail
+    from hydro_fmu import radiation
+    from hydro_fmu.radiation import KramersKronigTail, kramers_kronig_tail
 
     h = scenario.hydro
     index = np.array(_scene_dofs(scenario))
     block = np.ix_(index, index)
-    fit = kramers_kronig_tail(hdb.omega, hdb.added_mass[:, index][:, :, index],
-                              hdb.radiation_damping[:, index][:, :, index], h.irf_duration,
-                              d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
+    inputs = {"omega": hdb.omega, "added_mass": hdb.added_mass[:, index][:, :, index],
+              "damping": hdb.radiation_damping[:, index][:, :, index], "duration": h.irf_duration,
+              "d_omega": h.irf_d_omega, "tail_exponent": h.damping_tail}
+
+    def fit_now() -> dict:
+        fit = kramers_kronig_tail(inputs["omega"], inputs["added_mass"], inputs["damping"], h.irf_duration,
+                                  d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
+        return dataclasses.asdict(fit)
+
+    stored = cached_fit("kramers_kronig", inputs, radiation.__file__, fit_now)
+    fit = KramersKronigTail(**{k: (float(v) if v.ndim == 0 else v) for k, v in stored.items()})
     change = float(np.max(np.abs(fit.added_mass_inf - hdb.added_mass_inf[block])) /
                    np.max(np.abs(hdb.added_mass_inf[block])))
     if log is not None:
@@ -146,11 +156,20 @@ def _ogilvie(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
     """The database with A_inf replaced by the value consistent with its A(omega) and B(omega)."""
     import dataclasses
 
+    from hydro_fmu import radiation
     from hydro_fmu.radiation import ogilvie_added_mass_inf
 
     h = scenario.hydro
-    a_inf, spread = ogilvie_added_mass_inf(hdb.omega, hdb.added_mass, hdb.radiation_damping, h.irf_duration,
-                                           d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
+
+    def fit_now() -> dict:
+        a_inf, spread = ogilvie_added_mass_inf(hdb.omega, hdb.added_mass, hdb.radiation_damping, h.irf_duration,
+                                               d_omega=h.irf_d_omega, tail_exponent=h.damping_tail)
+        return {"added_mass_inf": a_inf, "spread": spread}
+
+    stored = cached_fit("ogilvie", {"omega": hdb.omega, "added_mass": hdb.added_mass, "damping": hdb.radiation_damping,
+                                    "duration": h.irf_duration, "d_omega": h.irf_d_omega,
+                                    "tail_exponent": h.damping_tail}, radiation.__file__, fit_now)
+    a_inf, spread = stored["added_mass_inf"], float(stored["spread"])
     change = float(np.max(np.abs(a_inf - hdb.added_mass_inf)) / np.max(np.abs(hdb.added_mass_inf)))
     if log is not None:
         log(f"A_inf from Ogilvie's relation: largest change {100 * change:.2g} % of the largest entry; "

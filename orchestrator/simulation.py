@@ -80,6 +80,8 @@ class Recorder:
         self._gather = {c: (np.array(s, dtype=np.intp), np.array(d, dtype=np.intp)) for c, (s, d) in gather.items()}
         self._energy = {name: layout[name][0].start for name in layout if name.startswith("energy/")}
         self._balance = self._wave_balance_weights() if self.wave_balance else None
+        written = {0}.union(*(d for _, d in gather.values()), [self._balance[0]] if self._balance else [])
+        self._unwritten = np.array([k for k in range(self.width) if k not in written], dtype=np.intp)  # zeros
 
     def _wave_balance_weights(self) -> tuple[int, np.ndarray, np.ndarray]:
         """(column, term columns, weights): :func:`wave_balance` is a linear combination of the energy terms,
@@ -140,10 +142,16 @@ class Recorder:
         hydro += list(Recorder.hydro_energy_series(scene).values())
         return {MBD: mbd, HYDRO: hydro + ["wave.elevation"]}
 
-    def values(self, t: float, outputs: dict[str, np.ndarray]) -> np.ndarray:
+    def values(self, t: float, outputs: dict[str, np.ndarray], out: np.ndarray | None = None) -> np.ndarray:
         """The recorded series of one point as one flat row (:func:`~orchestrator.results.row_layout` of
-        :attr:`series`; DOFs a body does not have are zero)."""
-        row = np.zeros(self.width)
+        :attr:`series`; DOFs a body does not have are zero), written into the first :attr:`width` columns of
+        ``out`` if given (e.g. :meth:`~orchestrator.results.ResultsWriter.next_line`)."""
+        if out is None:
+            row = np.zeros(self.width)
+        else:
+            row = out[: self.width]
+            if self._unwritten.size:
+                row[self._unwritten] = 0.0
         row[0] = t
         for comp, (src, dest) in self._gather.items():
             row[dest] = outputs[comp][src]
@@ -477,7 +485,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         if control:
             control.on_point(t, outputs)
         if k % sim.output_every == 0 or plan.controller.ticks >= end_tick:
-            writer.append_values(recorder.values(t, outputs), control.row() if control else None)
+            recorder.values(t, outputs, out=writer.next_line())
+            writer.commit_line(recorder.width, control.row() if control else None)
         state.steps = k + 1
         if t >= state.next_checkpoint - 1e-9 * sim.step:
             writer.flush()

@@ -33,12 +33,15 @@ class StepController:
         self.steps = 0
         self.ticks = 0  # grid steps since the start
         self.sizes: list[float] = []
+        self._last_query = (math.nan, 0)  # (time, grid steps from the start to it)
 
     def remaining(self, t: float, stop_time: float) -> bool:
         return self._ticks_to(stop_time) > self.ticks
 
     def _ticks_to(self, time: float) -> int:
-        return int(round((time - self.start) / self.grid))
+        if time != self._last_query[0]:  # asked twice per step, always for the stop time
+            self._last_query = (time, int(round((time - self.start) / self.grid)))
+        return self._last_query[1]
 
     def proposed_ticks(self) -> int:  # pragma: no cover - overridden
         return 1
