@@ -143,8 +143,8 @@ try:
     _PRUNED: set = set()
 
     def _prune(current: Path, days: float = 30.0) -> None:
-        """Remove other versions' caches (same module, other source content) unused for ``days`` (about 15 MB
-        each), once per process."""
+        """Remove other versions' caches (same module, other source content, under this naming or the earlier
+        one without the package) unused for ``days`` (about 15 MB each), once per process."""
         if current in _PRUNED:
             return
         _PRUNED.add(current)
@@ -152,10 +152,12 @@ try:
         import shutil
         import time
 
-        stem = current.name.rsplit("-", 1)[0]
-        for other in current.parent.glob(f"{stem}-*"):
-            if other != current and other.is_dir() and time.time() - other.stat().st_mtime > days * 86400:
-                shutil.rmtree(other, ignore_errors=True)
+        stem = current.name.rsplit("-", 1)[0]  # package.module
+        legacy = stem.split(".", 1)[-1]  # the folders' names until 2026-11-24: module-stamp, no package
+        for pattern in {f"{stem}-*", f"{legacy}-*"}:
+            for other in current.parent.glob(pattern):
+                if other != current and other.is_dir() and time.time() - other.stat().st_mtime > days * 86400:
+                    shutil.rmtree(other, ignore_errors=True)
 
     if _ContentLocator.__name__ not in {c.__name__ for c in caching.CacheImpl._locator_classes}:
         caching.CacheImpl._locator_classes.insert(0, _ContentLocator)

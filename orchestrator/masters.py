@@ -188,6 +188,7 @@ class Master:
         self._weights_cache: dict[tuple, np.ndarray] = {}
         self._weights_seen: dict[tuple, np.ndarray] = {}  # exact key -> the rounded key's weights
         self._divergence_limits: dict[str, np.ndarray] = {}  # per component, from its first outputs (_limits)
+        self._inverse_limits: dict[str, np.ndarray] = {}  # their inverses (Master._read)
 
     # ------------------------------------------------------------------ set-up
     def _evaluation_order(self, connections: list[Connection]) -> list[str]:
@@ -288,13 +289,17 @@ class Master:
 
     def _read(self, name: str) -> np.ndarray:
         values = self.components[name].get_reals(self.output_ports[name])
-        limit = self._divergence_limits.get(name)
-        if limit is None:
-            limit = self._limits(name, values)
-        # One reduction catches NaN (the maximum propagates it and the comparison is then false), infinities and
-        # values beyond the limit.
-        if values.size and not np.maximum.reduce(np.abs(values) - limit) <= 0.0:
+        inverse = self._inverse_limits.get(name)
+        if inverse is None:
+            inverse = self._inverse_limits[name] = 1.0 / self._limits(name, values)
+        # The sum of |value| / limit is at most 1 only if every value is within its limit (the terms are >= 0);
+        # NaN and infinities make it NaN or infinite (comparison false). One dot product per read; the test
+        # value by value runs only when the sum says it may fail.
+        if not np.dot(np.abs(values), inverse) <= 1.0:
+            limit = self._divergence_limits[name]
             bad = ~(np.abs(values) <= limit)
+            if not bad.any():
+                return values
             k = int(np.argmax(bad))
             var = self.output_names[name][k]
             what = "is not finite" if not np.isfinite(values[k]) else (

@@ -134,3 +134,21 @@ def test_without_numba_the_hydro_model_takes_its_numpy_path(how: str) -> None:
     assert proc.returncode == 0, proc.stderr
     worst, scale = map(float, proc.stdout.split())
     assert scale > 0 and worst <= 1e-12 * scale
+
+
+@pytest.mark.skipif(not _jit.AVAILABLE, reason="numba not installed: no compiled kernels, no cache to prune")
+def test_caches_of_other_source_versions_unused_for_30_days_are_removed(tmp_path: Path) -> None:
+    """Other versions of the same module (this naming and the earlier one without the package) go once unused for
+    30 days; recent ones (another process may run that version) and other modules' stay."""
+    import time
+
+    old = time.time() - 31 * 86400
+    names = {"hydro_fmu.kernels-aaa": None, "hydro_fmu.kernels-bbb": old, "hydro_fmu.kernels-ccc": time.time(),
+             "kernels-ddd": old, "kernels-eee": time.time(), "mbd_fmu.kernels-fff": old, "hydro_fmu.other-ggg": old}
+    for name, mtime in names.items():
+        (tmp_path / name).mkdir()
+        if mtime is not None:
+            os.utime(tmp_path / name, (mtime, mtime))
+    _jit._prune(tmp_path / "hydro_fmu.kernels-aaa")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hydro_fmu.kernels-aaa", "hydro_fmu.kernels-ccc",
+                                                          "hydro_fmu.other-ggg", "kernels-eee", "mbd_fmu.kernels-fff"]
