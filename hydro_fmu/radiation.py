@@ -202,8 +202,10 @@ class RadiationMemory:
 
     The compiled pass (:func:`hydro_fmu.kernels.blocked_memory`) shares one pass over the weights between
     the next ``block_points`` points: the part of their sums that reaches only into committed velocities is
-    computed once into ``_history``, described by ``_block`` ([valid, first committed point excluded, stride,
-    count]). Both are derived data: not part of the state (:meth:`__getstate__`), recomputed after a restore.
+    computed once into ``_history``, described by ``_block`` ([valid, block start, stride, count]). Both are
+    saved and restored with the rest of the memory (they belong to the ring and step count they were computed
+    from), so a restored or resumed run continues with the same sums, bit for bit; a memory without them (decoded
+    from a state saved before they existed) gets new ones at the next point.
     """
 
     block_points = BLOCK_POINTS
@@ -232,15 +234,6 @@ class RadiationMemory:
         """No block of history sums (:func:`hydro_fmu.kernels.blocked_memory` starts one at the next point)."""
         self._history = np.zeros((self.block_points, self.n))
         self._block = np.zeros(4, dtype=np.int64)
-
-    def __getstate__(self) -> dict:
-        """The state without the block of history sums (derived data, recomputed at the next point): a copy or
-        a saved state never carries sums that could belong to another history."""
-        return {k: v for k, v in self.__dict__.items() if k not in ("_history", "_block")}
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self._clear_block()
 
     @property
     def current(self) -> int:
