@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from .assembly import MobilityReport, analyse, assemble
 from .bodies import RigidBody
 from .coordinates import Coordinate, Distance, RotationComponent, Slide
 from .force_elements import CoordinateSpringDamper, CoulombFriction, ForceElement, PtoLaw, Rope
@@ -175,6 +176,17 @@ def build_model(spec: dict[str, Any], added_mass: np.ndarray | None = None) -> t
     model.m = model.m_primitive + len(model.drivers)
     model.kept = np.arange(model.m)
     return model, ptos
+
+
+def mobility_report(spec: dict[str, Any]) -> MobilityReport:
+    """DOF count and redundant constraint rows at the assembled start pose: what
+    :meth:`MultibodySimulator.start` reports, without initialising the integrator (no consistent acceleration, no
+    compiled kernel)."""
+    model, _ = build_model(spec)
+    pose, v6 = initial_pose(spec)
+    v = np.array([v6[model.index(b), d] for b, d in model.coordinates])
+    pose, _, _ = assemble(model, pose, v, 0.0)
+    return analyse(model, pose, 0.0)
 
 
 def build_simulator(spec: dict[str, Any], added_mass: np.ndarray | None = None) -> MultibodySimulator:

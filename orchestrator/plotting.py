@@ -118,7 +118,7 @@ ENERGY_TERMS = (("work_in", "work in (excitation)"), ("pto", "PTO"), ("radiated"
 def plot_energy(f: h5py.File, target: Path) -> Path:
     """The wave-to-wire energy account against time: the work the waves did and where it went (PTO, radiated,
     dissipated, stored), and the balance's residual relative to the work in."""
-    from .simulation import energy_terms
+    from .recorder import energy_terms
 
     plt = _pyplot()
     t = f["time"][()]

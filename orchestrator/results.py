@@ -143,10 +143,12 @@ class ResultsWriter:
         if self.rows:
             self._room(self.buffer[: self.rows].nbytes)
             n0, n1 = self.written, self.written + self.rows
+            memory = h5py.h5s.create_simple((self.rows,))
             for name, ds in self.datasets.items():
                 columns, shape = self.columns[name]
                 ds.resize(n1, axis=0)
-                ds[n0:n1] = self.buffer[: self.rows, columns].reshape((self.rows,) + shape)
+                block = np.ascontiguousarray(self.buffer[: self.rows, columns]).reshape((self.rows,) + shape)
+                _write_rows(ds, n0, block, memory if not shape else None)
                 ds.flush()
             self.written, self.rows = n1, 0
         self.file.flush()
@@ -238,3 +240,11 @@ def read_results(path: str | Path) -> dict[str, Any]:
             attrs[k] = v
         out["attrs"] = attrs
     return out
+
+
+def _write_rows(ds: h5py.Dataset, start: int, block: np.ndarray, memory: h5py.h5s.SpaceID | None) -> None:
+    """``ds[start : start + len(block)] = block`` through HDF5's own write call (``block`` C-contiguous, float64):
+    h5py's slice assignment costs about three times as much for the few-column blocks of a flush."""
+    space = ds.id.get_space()
+    space.select_hyperslab((start,) + (0,) * (block.ndim - 1), block.shape)
+    ds.id.write(memory if memory is not None else h5py.h5s.create_simple(block.shape), space, block)

@@ -40,6 +40,19 @@ def test_mobility_of_the_planar_hinge_barge() -> None:
     assert sorted(sim.report.redundant) == ["hinge[2]", "hinge[4]", "hinge[5]"]
 
 
+@pytest.mark.parametrize("name", ["hinge_barge", "f3of_dt3"])
+def test_the_run_reports_the_mobility_the_started_simulator_finds(name: str) -> None:
+    """The mobility written into results files (assembly analysis only, no integrator start) is the report of the
+    started multibody simulator, redundant rows included (F3OF: 16 equations of rank 5)."""
+    from orchestrator.simulation import mobility
+
+    scene = load_scene(load_scenario(SCENARIOS / f"{name}.toml"), log=None)
+    report = scene.multibody_simulator().report
+    found = mobility(scene)
+    assert (found["dof"], found["rank"], found["constraints"], found["redundant"], found["summary"]) == (
+        report.dof, report.rank, report.constraints, list(report.redundant), report.summary())
+
+
 def test_linearised_hinge_barge_is_in_equilibrium_and_stable() -> None:
     from mbd_fmu.linearize import linearize
 

@@ -50,3 +50,22 @@ def test_rows_given_as_flat_values_land_in_their_series_and_missing_series_read_
     np.testing.assert_array_equal(a["bodies/float/displacement"][2], np.arange(6.0) + 2)
     np.testing.assert_array_equal(a["control/commands"][:, 1], [0, -1, -2])
     assert np.isnan(a["control/fault"]).all() and a["energy/kinetic"].tolist() == [0.0, 10.0, 20.0]
+
+
+def test_rows_written_over_several_flushes_read_back_exactly(tmp_path) -> None:
+    """Flushes of a few rows each (buffer of 3 rows, one forced flush in between) append every row after the last:
+    the file holds each value written, in order, for scalar and vector series."""
+    series = {"time": (), "bodies/float/velocity": (6,), "ptos/pto/power": ()}
+    writer = ResultsWriter(tmp_path / "run.h5", series, {}, buffer_rows=3)
+    rows = np.random.default_rng(7).normal(size=(11, 8))
+    for k, row in enumerate(rows):
+        line = writer.next_line()
+        line[:8] = row
+        writer.commit_line(8)
+        if k == 4:
+            writer.flush()
+    writer.close()
+    data = read_results(tmp_path / "run.h5")
+    np.testing.assert_array_equal(data["time"], rows[:, 0])
+    np.testing.assert_array_equal(data["bodies/float/velocity"], rows[:, 1:7])
+    np.testing.assert_array_equal(data["ptos/pto/power"], rows[:, 7])
