@@ -145,9 +145,9 @@ def blocked_memory(weights: np.ndarray, ring: np.ndarray, steps: int, gap: int, 
 
     ``block`` (int64): [valid, s0, stride, count]: the history holds the points at offsets b = stride,
     2 stride, ..., count stride after s0. A point outside it (past the block's end, an offset the block does not
-    hold because the step size changed, or no valid block: the first point, after a restored state) starts a new
-    block at its own s0 = ``steps`` with stride ``gap``. Valid as long as the velocities committed before s0 do
-    not change, which holds in one memory (commits only append; a restored state clears ``block[0]``). The
+    hold because the step size changed, or no valid block: the first point) starts a new block at its own
+    s0 = ``steps`` with stride ``gap``. Valid as long as the velocities committed before s0 do not change, which
+    holds in one memory (commits only append; a restored state brings back its own block with its ring). The
     window at a block's start holds grid points s0 - m .. s0 - 1; the pending points of the first point
     overwrite the oldest ``gap`` of them, which no offset >= ``gap`` reads.
     """
