@@ -43,6 +43,7 @@ RADIATION_METHODS = ("convolution", "state_space")
 _NO_VECTOR = np.zeros(0)
 _NO_MATRIX = np.zeros((2, 0))
 _NO_ROWS = np.zeros(0, dtype=np.intp)
+_NO_BLOCK = np.zeros(4, dtype=np.int64)
 FORCE_ROWS = ("total", "excitation", "radiation", "hydrostatic", "viscous")  # rows of HydroModel.block
 EXCITATION_METHODS = ("superposition", "convolution")
 
@@ -374,10 +375,16 @@ class HydroModel:
             account.value(t, power, out=energy)
             return eta
         rad = self.radiation
-        mode, ring, last, current, gap, weights = RADIATION_NONE, _NO_MATRIX, _NO_VECTOR, 0, 1, _NO_MATRIX
+        mode, ring, last, steps, gap, weights = RADIATION_NONE, _NO_MATRIX, _NO_VECTOR, 0, 1, _NO_MATRIX
+        history, block = _NO_MATRIX, _NO_BLOCK
         if isinstance(rad, RadiationMemory):
-            mode, ring, last, current, gap, weights = (RADIATION_CONVOLUTION, rad._ring, rad._last,
-                                                       rad.steps - 1 + rad.gap, rad.gap, rad._all)
+            mode, ring, last, steps, gap, weights = (RADIATION_CONVOLUTION, rad._ring, rad._last, rad.steps, rad.gap,
+                                                     rad._all)
+            try:
+                history, block = rad._history, rad._block
+            except AttributeError:  # decoded from a state saved before the blocks existed (they are not state)
+                rad._clear_block()
+                history, block = rad._history, rad._block
         elif rad is not None:
             mode = RADIATION_GIVEN
             rad.force(v, out=self.block[2])
@@ -385,7 +392,8 @@ class HydroModel:
         hydrostatics = self.switches.hydrostatics
         last_power = account.last_power
         return point_outputs(float(t), self._clock(t), self._phasor_table, float(self.ramp.duration), mode, ring, last,
-                             current, gap, weights, hydrostatics, self._restoring if hydrostatics else _NO_MATRIX,
+                             steps, gap, weights, history, block, hydrostatics,
+                             self._restoring if hydrostatics else _NO_MATRIX,
                              visc is not None, _NO_VECTOR if visc is None else visc.linear,
                              _NO_VECTOR if visc is None else visc.quadratic, x, v, self.block, rows, out, power,
                              account.committed, _NO_VECTOR if last_power is None else last_power,
