@@ -382,7 +382,7 @@ class HydroModel:
                                                      rad._all)
             try:
                 history, block = rad._history, rad._block
-            except AttributeError:  # decoded from a state saved before the blocks existed (they are not state)
+            except AttributeError:  # decoded from a state saved before the blocks existed
                 rad._clear_block()
                 history, block = rad._history, rad._block
         elif rad is not None:

@@ -32,8 +32,6 @@ from .formulations import Index3, Settings, make_formulation
 from .kinematics import Pose
 from .model import MultibodyModel
 
-_ENERGY_SUMS = ("dissipated", "work", "pto_energy", "energy0")  # the fused call's ``energy[:4]``
-
 
 class MultibodySimulator:
     """Model + formulation + substepping + outputs (module docstring)."""
@@ -45,6 +43,7 @@ class MultibodySimulator:
     fused = True  # False: never one compiled call per macro step (comparisons, benchmarks)
     _commands_changed = False  # PTO commands changed (set_pto_commands(defer=True)), not yet taken by a restart
     _buffers: FusedBuffers | None = None
+    dissipated = work = pto_energy = energy0 = 0.0  # energy sums (J), set by start
 
     def __init__(self, model: MultibodyModel, settings: Settings, max_step: float = 0.0,
                  ptos: list[CoordinateSpringDamper] = ()) -> None:
@@ -179,7 +178,7 @@ class MultibodySimulator:
 
     def _energy_sums(self) -> np.ndarray:
         """(dissipated energy, external work, PTO energy, initial mechanical energy): the fused call's ``energy``."""
-        return np.array([getattr(self, key, 0.0) for key in _ENERGY_SUMS])
+        return np.array([self.dissipated, self.work, self.pto_energy, self.energy0])
 
     def _pto_springs(self) -> np.ndarray:
         """Positions of the PTOs among the compiled springs (the fused call's PTO power and outputs; the same for
@@ -432,18 +431,14 @@ class FusedBuffers:
         cm = f.compiled
         self.formulation, self.compiled, self.kept, self.eager = f, cm, m.kept, sim.eager_outputs
         self.ptos = sim._pto_springs()
-        for key in _ENERGY_SUMS:  # (absent from earlier versions' states: what _energy_sums reads them as)
-            sim.__dict__.setdefault(key, 0.0)
         at = self.at = f._offsets(len(self.ptos))
         nn = m.n + len(m.kept)
         if f._lu is None or f._lu.shape[0] != nn:
             f._lu, f._piv = np.empty((nn, nn)), np.zeros(nn, dtype=np.int64)
-        self.sides, self.views = [], []  # per buffer: (the buffer, v', lambda, pose, v, a, angle references,
-        for _ in range(2):               # springs' powers, named outputs); Index3.take_fused's views of it
+        self.sides = []  # per buffer: (the buffer, Index3.take_fused's views of it, its named outputs)
+        for _ in range(2):
             out = np.empty(at[-1] if self.eager else at[11])
-            views = f.fused_views(out, at)
-            self.views.append(views)
-            self.sides.append((out, *views[:7], sim._split_outputs(out, at) if self.eager else None))
+            self.sides.append((out, f.fused_views(out, at), sim._split_outputs(out, at) if self.eager else None))
         self.written = 1  # the side the last call wrote (the next call writes the other)
         self.energy = np.zeros(7)  # energy sums, initial energy, start powers (the kernel's ``energy``)
         self.energy_sums = self.energy[:4]
@@ -466,8 +461,7 @@ class FusedBuffers:
         ``steps`` are the caller's): v', lambda, pose, v, a as views of that buffer, the angle references' commit,
         the row quality, the end powers, the energy sums; returns that buffer's named outputs (eager outputs)."""
         self.written = w = 1 - self.written
-        side = self.sides[w]
-        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = sim.formulation.take_fused(side[0], self.at,
-                                                                                                self.views[w])
+        out, views, outputs = self.sides[w]
+        sim.dissipated, sim.work, sim.pto_energy, diss, supply, pto = sim.formulation.take_fused(out, self.at, views)
         sim._powers = (diss, supply, pto)
-        return side[8]
+        return outputs

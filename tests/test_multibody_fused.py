@@ -161,7 +161,7 @@ def test_a_saved_state_is_a_copy_that_later_steps_do_not_overwrite() -> None:
 
     steps(sim, 0)
     assert isinstance(sim._buffers, FusedBuffers)  # the kept buffers' path ran: the state is views of them
-    assert any(sim.formulation.v is side[4] and sim.formulation.pose is side[3] for side in sim._buffers.sides)
+    assert any(sim.formulation.v is side[1][3] and sim.formulation.pose is side[1][2] for side in sim._buffers.sides)
     at_save = state(sim)
     copied, encoded = copy.deepcopy(sim), state_codec.encode(sim)
     steps(sim, 20)
