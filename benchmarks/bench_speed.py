@@ -32,6 +32,12 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    Then seed 000's 4N3LA and 9N9LA node/link-arm arrays, 20 s of their bundled irregular sea: real-time
    factors on the compiled and the Python path (issue 15: the seed 000 scenarios join the benchmark).
 
+4. The hinge barge against the issue's starting point on this machine: ``wec-cosim run
+   scenarios/hinge_barge.toml`` (its printed real-time factor of the stepping loop, through fmpy) by the packages
+   and scenario of git revision ``--baseline`` (default a1984a6, main when issue 15 was filed) and by this tree,
+   in alternating processes; the ratio of their medians is the speed-up independent of the machine's own speed
+   (the issue's target RTF 100 from its RTF 11.6 asks for 8.6x).
+
 Run: python benchmarks/bench_speed.py --out benchmarks/results/speed.txt   (about 5-10 min)
      python benchmarks/bench_speed.py --sections 3                          (part 3 only)
 """
@@ -57,7 +63,7 @@ from scipy.integrate import solve_ivp
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import write_report  # noqa: E402
+from benchmarks.common import cpu_model, revision_tree, write_report  # noqa: E402
 from mbd_fmu.bodies import RigidBody  # noqa: E402
 from mbd_fmu.formulations import Settings  # noqa: E402
 from mbd_fmu.joints import Joint  # noqa: E402
@@ -70,6 +76,7 @@ G = 9.81
 H = 1e-3
 RHO = 0.8
 T_END = 1.0
+BASELINE = "a1984a6"  # main when issue 15 was filed (its table's "now" column: hinge barge RTF 11.6)
 ROD_INERTIA = np.diag([1 / 12, 1 / 12, 1e-6])  # 1 kg, 1 m thin rod along its z axis
 
 
@@ -326,12 +333,14 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--out", default="", help="also write the report to this file")
     p.add_argument("--quick", action="store_true", help="fewer repeats and steps (a smoke run)")
-    p.add_argument("--sections", default="123", help="which parts to run (default 123: all)")
+    p.add_argument("--sections", default="1234", help="which parts to run (default 1234: all)")
+    p.add_argument("--baseline", default=BASELINE, help=f"git revision of part 4 (default {BASELINE}: main when "
+                   "issue 15 was filed)")
     args = p.parse_args()
     repeats = 1 if args.quick else 5
     steps = int(T_END / H)
     lines = [f"# command: python benchmarks/bench_speed.py {' '.join(sys.argv[1:])}".rstrip(),
-             f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
+             f"# machine: {platform.node()}, {platform.machine()}, {cpu_model()}, {os.cpu_count()} cores, python "
              f"{platform.python_version()}, numpy {np.__version__}; load average at start "
              f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}; OPENBLAS_NUM_THREADS="
              f"{os.environ.get('OPENBLAS_NUM_THREADS')}"]
@@ -355,6 +364,8 @@ def main() -> None:
         section_2(lines, repeats, args.quick)
     if "3" in args.sections:
         section_3(lines, args.quick)
+    if "4" in args.sections:
+        section_4(lines, args.baseline, 1 if args.quick else 3)
     lines.append(f"# load average at the end {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
                  f"benchmark wall time {time.perf_counter() - t_start:.0f} s")
     write_report(lines, args.out)
@@ -470,6 +481,36 @@ def section_3(lines: list[str], quick: bool) -> None:
             (rtf, rtf_cpu), _, _ = run_scene(name, compiled, duration)
             lines.append(f"{name:<16}{label:<14}{rtf:8.2f}{rtf_cpu:7.2f}")
             print(lines[-1], flush=True)
+    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+
+def printed_rtf(tree: Path, out: Path) -> float:
+    """The real-time factor that ``wec-cosim run scenarios/hinge_barge.toml`` prints when run from ``tree``'s
+    packages and scenario (the stepping loop's wall clock, through fmpy)."""
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    run = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", "scenarios/hinge_barge.toml", "--out",
+                          str(out)], cwd=tree, env=env, capture_output=True, text=True, check=True)
+    return float(run.stdout.rsplit("real-time factor", 1)[1].split()[0])
+
+
+def section_4(lines: list[str], baseline: str, rounds: int) -> None:
+    lines += ["", f"## 4. Hinge barge against issue 15's starting point on this machine: `wec-cosim run "
+              f"scenarios/hinge_barge.toml` (printed RTF, through fmpy) by revision {baseline} and by this tree, "
+              f"{rounds} rounds in alternating processes",
+              f"{'tree':<30}{'median RTF':>11}  runs"]
+    rtfs: dict[str, list[float]] = {baseline: [], "this tree": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        old = revision_tree(baseline, Path(tmp), ["fmu_base", "hydro_fmu", "mbd_fmu", "orchestrator",
+                                                  "scenarios/hinge_barge.toml"])
+        (old / "scenarios" / "hydro_cache").symlink_to(ROOT / "scenarios" / "hydro_cache")
+        for _ in range(rounds):
+            for label, tree in ((baseline, old), ("this tree", ROOT)):
+                rtfs[label].append(printed_rtf(tree, Path(tmp) / "run.h5"))
+    for label, values in rtfs.items():
+        lines.append(f"{label:<30}{np.median(values):11.1f}  " + " ".join(f"{v:.1f}" for v in values))
+    lines.append(f"{'speed-up (ratio of medians)':<30}{np.median(rtfs['this tree']) / np.median(rtfs[baseline]):11.1f}"
+                 "  (issue 15 asks for 100 / 11.6 = 8.6)")
+    print("\n".join(lines[-3:]), flush=True)
     lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 

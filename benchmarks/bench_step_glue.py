@@ -41,7 +41,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import report_header, write_report  # noqa: E402
+from benchmarks.common import report_header, revision_tree, write_report  # noqa: E402
 
 TIMER = time.perf_counter  # wall clock (default); --clock cpu: the calling thread's CPU time
 
@@ -188,17 +188,6 @@ def measure(repeats: int) -> dict[str, dict[str, float]]:
     return out
 
 
-def baseline_tree(ref: str, tmp: Path) -> Path:
-    """The packages of git revision ``ref`` extracted into ``tmp`` (the compiled kernels' cache is keyed on
-    content)."""
-    import subprocess
-
-    packages = ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator"]
-    archive = subprocess.run(["git", "archive", ref, *packages], cwd=ROOT, capture_output=True, check=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
-    return tmp
-
-
 def ab(args: argparse.Namespace) -> list[str]:
     """Alternating child processes on the baseline revision's packages and this tree's, ``--rounds`` times each."""
     import json
@@ -206,7 +195,7 @@ def ab(args: argparse.Namespace) -> list[str]:
 
     runs: dict[str, list[dict]] = {"baseline": [], "this tree": []}
     with tempfile.TemporaryDirectory() as tmp:
-        trees = {"baseline": baseline_tree(args.baseline, Path(tmp)), "this tree": ROOT}
+        trees = {"baseline": revision_tree(args.baseline, Path(tmp)), "this tree": ROOT}
         for _ in range(args.rounds):
             for label, tree in trees.items():
                 cmd = [sys.executable, __file__, "--tree", str(tree), "--json", "--repeats", str(args.repeats),

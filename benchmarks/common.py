@@ -16,13 +16,36 @@ def load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
+def cpu_model() -> str:
+    """The processor's model name as the kernel reports it (``/proc/cpuinfo``), or the platform's guess: figures
+    from two machine types are not comparable, so every record names it."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown processor"
+
+
+def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:
+    """The files of git revision ``ref`` (the toolkit's packages, or ``paths`` that exist at that revision)
+    extracted into ``tmp``, for A/B runs against an earlier state in alternating processes."""
+    paths = paths or ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps"]
+    present = [p for p in paths if subprocess.run(["git", "cat-file", "-e", f"{ref}:{p}"], cwd=ROOT,
+                                                  capture_output=True).returncode == 0]
+    archive = subprocess.run(["git", "archive", ref, *present], cwd=ROOT, capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
+    return tmp
+
+
 def report_header(script: str, versions: str = "") -> list[str]:
     """The first lines of a benchmark record: the command that produced it, then the machine, Python, the
     ``versions`` given, the git commit and the load at the start."""
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                             cwd=ROOT).stdout.strip()
     return [f"# command: python benchmarks/{script} {' '.join(sys.argv[1:])}".rstrip(),
-            f"# machine: {platform.node()}, {platform.machine()}, {os.cpu_count()} cores, python "
+            f"# machine: {platform.node()}, {platform.machine()}, {cpu_model()}, {os.cpu_count()} cores, python "
             f"{platform.python_version()}{versions}; git {commit}; load average at start {load()}"]
 
 
