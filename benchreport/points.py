@@ -1,0 +1,136 @@
+"""One point of the report: a bundled scenario with ``--set`` overrides, run once, timed and scored.
+
+A :class:`Variant` is exactly what a reader types to rerun the point (:meth:`Variant.command`); a
+:class:`Point` is what one run of it measured: the stepping loop's wall time (initialisation excluded, as the
+run's own summary prints it), its real-time factor, the run's status, and the error given by the case's
+error measure (:mod:`benchreport.errors`). A run that diverges or fails is a point too (status ``diverged`` or
+``failed`` with the run's own message): the hard cases map exactly that.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@dataclass(frozen=True)
+class Variant:
+    """A scenario file (relative to the repository root) and the ``--set KEY=VALUE`` items that make one point."""
+
+    scenario: str
+    overrides: tuple[str, ...] = ()
+
+    def command(self) -> str:
+        """The command that reruns this point."""
+        return " ".join(["wec-cosim run", self.scenario, *(f"--set {o}" for o in self.overrides)])
+
+    def with_(self, *items: str) -> Variant:
+        """This variant with more overrides (a later item for the same key wins, as on the command line)."""
+        keys = {i.partition("=")[0] for i in items}
+        return Variant(self.scenario, tuple(o for o in self.overrides if o.partition("=")[0] not in keys) + items)
+
+    def value(self, key: str, default: str = "") -> str:
+        """The override's value for ``key`` as written, or ``default``."""
+        for o in reversed(self.overrides):
+            k, _, v = o.partition("=")
+            if k == key:
+                return v
+        return default
+
+
+@dataclass
+class Point:
+    """What one run of a variant measured.
+
+    Attributes:
+        variant: what ran.
+        status: ``ok``, ``diverged`` (the master's divergence check stopped it) or ``failed`` (another error).
+        wall_time: wall-clock seconds of the stepping loop (initialisation excluded); NaN if it did not start.
+        simulated: simulated seconds reached.
+        error: the case's error measure (dimensionless, relative), NaN unless ``ok``.
+        message: the run's own message when it did not finish, else notes of the error measure.
+        extra: other figures of the run (energy residual, CPU seconds, ...).
+    """
+
+    variant: Variant
+    status: str
+    wall_time: float
+    simulated: float
+    error: float = math.nan
+    message: str = ""
+    extra: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def real_time_factor(self) -> float:
+        return self.simulated / self.wall_time if self.wall_time > 0 else math.nan
+
+    @property
+    def stable(self) -> bool:
+        return self.status == "ok"
+
+
+ErrorMeasure = Callable[["object", dict, "object"], float]  # (scene, results data, RunResult) -> relative error
+
+
+def run_point(variant: Variant, error: ErrorMeasure | None = None, *, in_process: bool = False) -> Point:
+    """Run ``variant`` through fmpy (the product's default path) and score it with ``error``.
+
+    The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
+    a point costs its FMUs' start-up plus the stepping loop."""
+    from orchestrator.errors import MasterError, WecCosimError
+    from orchestrator.overrides import apply_overrides
+    from orchestrator.results import read_results
+    from orchestrator.scenario import load_scenario
+    from orchestrator.scene import load_scene
+    from orchestrator.simulation import run_scenario
+
+    scenario = apply_overrides(load_scenario(ROOT / variant.scenario), list(variant.overrides))
+    scene = load_scene(scenario, log=None)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "point.h5"
+        cpu = time.process_time()
+        try:
+            result = run_scenario(scenario, out, in_process=in_process, log=None, progress=False, scene=scene)
+        except MasterError as exc:
+            return _unfinished(variant, "diverged", out, exc)
+        except (WecCosimError, RuntimeError, ValueError, FloatingPointError, OSError) as exc:
+            return _unfinished(variant, "failed", out, exc)
+        cpu = time.process_time() - cpu
+        data = read_results(result.path)
+        point = Point(variant, "ok", result.wall_time, result.simulated_time, extra={"cpu_s": cpu})
+        if result.energy and result.energy.get("work_in"):
+            point.extra["energy_residual"] = abs(result.energy.get("residual", math.nan)) / abs(
+                result.energy["work_in"])
+        if error is not None:
+            try:
+                point.error = float(error(scene, data, result))
+            except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
+                point.message = f"error measure failed: {exc}"
+    return point
+
+
+def _unfinished(variant: Variant, status: str, out: Path, exc: BaseException) -> Point:
+    """A run that stopped: the simulated time it reached (from the rows it kept) and its message."""
+    from orchestrator.results import read_results
+
+    reached = math.nan
+    if out.exists():
+        try:
+            t = read_results(out)["time"]
+            reached = float(t[-1]) if len(t) else 0.0
+        except (OSError, KeyError, ValueError):
+            pass
+    message = " ".join(str(exc).split())
+    return Point(variant, status, math.nan, reached, message=message[:300])
+
+
+def quiet_threads() -> None:
+    """One BLAS thread (set before numpy loads): on this 2-core machine helper threads only add noise."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
