@@ -64,11 +64,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.common import cpu_model, revision_tree, write_report  # noqa: E402
+from benchreport.scaling import floating_row  # noqa: E402
 from mbd_fmu.bodies import RigidBody  # noqa: E402
 from mbd_fmu.formulations import Settings  # noqa: E402
 from mbd_fmu.joints import Joint  # noqa: E402
 from mbd_fmu.model import MultibodyModel  # noqa: E402
-from mbd_fmu.moorings import LinearMooring  # noqa: E402
 from mbd_fmu.rotations import exp_so3  # noqa: E402
 from mbd_fmu.simulator import MultibodySimulator  # noqa: E402
 
@@ -225,19 +225,6 @@ def exudyn_four_bar(h: float, steps: int):
 
 
 # ---------------------------------------------------------------------------------------------- N bodies
-def floating_row(n: int):
-    """Row of n cubes on hydrostatic-like moorings, hinged about y (module docstring)."""
-    inertia = 1000.0 / 6 * np.eye(3)
-    bodies = [RigidBody(f"b{i}", 1000.0, inertia, [1.2 * i, 0, 0]) for i in range(n)]
-    joints = [Joint(f"h{i}", "revolute", f"b{i - 1}", f"b{i}", (1.2 * i - 0.6, 0, 0), (0, 1, 0)) for i in range(1, n)]
-    model = MultibodyModel(bodies, joints)
-    k = np.diag([1e2, 1e2, 1e4, 1e4, 1e4, 1e2])
-    model.elements = [LinearMooring(f"m{i}", i, k, None, model.cg[i].copy()) for i in range(n)]
-    pose = model.reference.copy()
-    pose.r[:, 2] += 0.05 * np.cos(np.arange(n))
-    return model, pose, np.zeros(model.n)
-
-
 _HEAVE: dict = {}
 
 
@@ -300,26 +287,13 @@ def hinge_barge(compiled: bool, duration: float, in_process: bool = False,
 
 
 def f3of_dt3_errors(data: dict, window_start: float = 20.0) -> list[tuple[float, float]]:
-    """F3OF DT3: (period, damping ratio) relative errors of its two free modes (flaps pitching the same way and
-    mirror-wise: half sum and half difference of the pitches) fitted from ``window_start`` to the end of the run,
-    against the linear model's roots (tests/test_f3of.py's check)."""
-    from orchestrator.decay import fit_decay, natural_modes
+    """F3OF DT3: (period, damping ratio) relative errors of its two free modes fitted from ``window_start`` to the
+    end of the run against the linear model's roots (``benchreport.errors.decay_modes``, as tests/test_f3of.py)."""
+    from benchreport.errors import decay_modes
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
 
-    scene = load_scene(load_scenario(ROOT / "scenarios" / "f3of_dt3.toml"), log=None)
-    coords = list(scene.multibody_simulator().model.coordinates)
-    p1, p2 = coords.index(("flap1", 4)), coords.index(("flap2", 4))
-    modes = natural_modes(scene)
-    same = next(m for m in modes if np.real(m.shape[p1] / m.shape[p2]) > 0)
-    mirror = next(m for m in modes if np.real(m.shape[p1] / m.shape[p2]) < 0)
-    t = data["time"]
-    a, b = data["bodies/flap1/displacement"][:, 4], data["bodies/flap2/displacement"][:, 4]
-    out = []
-    for channel, root in (((a + b) / 2, same), ((a - b) / 2, mirror)):
-        m = fit_decay(t, channel, 1, (window_start, float(t[-1]))).modes[0]
-        out.append((m.period / root.period - 1, m.damping_ratio / root.damping_ratio - 1))
-    return out
+    return decay_modes(load_scene(load_scenario(ROOT / "scenarios" / "f3of_dt3.toml"), log=None), data, window_start)
 
 
 # ---------------------------------------------------------------------------------------------- report

@@ -9,23 +9,14 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from benchreport.machine import cpu_model  # noqa: E402
 
 
 def load() -> str:
     """The load averages (1, 5, 15 min) as text."""
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
-
-
-def cpu_model() -> str:
-    """The processor's model name as the kernel reports it (``/proc/cpuinfo``), or the platform's guess: figures
-    from two machine types are not comparable, so every record names it."""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown processor"
 
 
 def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:

@@ -51,7 +51,9 @@ class Point:
 
     Attributes:
         variant: what ran.
-        status: ``ok``, ``diverged`` (the master's divergence check stopped it) or ``failed`` (another error).
+        status: ``ok``, ``diverged``, ``not converged`` or ``failed`` (:func:`classify`), or ``unavailable``
+            (the scenario refuses these settings, e.g. the
+            monolithic mode on a scene with joints).
         wall_time: wall-clock seconds of the stepping loop (initialisation excluded); NaN if it did not start.
         simulated: simulated seconds reached.
         error: the case's error measure (dimensionless, relative), NaN unless ``ok``.
@@ -84,24 +86,25 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, in_process
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
     a point costs its FMUs' start-up plus the stepping loop."""
-    from orchestrator.errors import MasterError, WecCosimError
+    from orchestrator.errors import WecCosimError
     from orchestrator.overrides import apply_overrides
     from orchestrator.results import read_results
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
     from orchestrator.simulation import run_scenario
 
-    scenario = apply_overrides(load_scenario(ROOT / variant.scenario), list(variant.overrides))
-    scene = load_scene(scenario, log=None)
+    try:
+        scenario = apply_overrides(load_scenario(ROOT / variant.scenario), list(variant.overrides))
+        scene = load_scene(scenario, log=None)
+    except WecCosimError as exc:  # the settings do not apply to this scene (e.g. monolithic with joints)
+        return Point(variant, "unavailable", math.nan, 0.0, message=" ".join(str(exc).split())[:300])
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "point.h5"
         cpu = time.process_time()
         try:
             result = run_scenario(scenario, out, in_process=in_process, log=None, progress=False, scene=scene)
-        except MasterError as exc:
-            return _unfinished(variant, "diverged", out, exc)
         except (WecCosimError, RuntimeError, ValueError, FloatingPointError, OSError) as exc:
-            return _unfinished(variant, "failed", out, exc)
+            return _unfinished(variant, classify(exc), out, exc)
         cpu = time.process_time() - cpu
         data = read_results(result.path)
         point = Point(variant, "ok", result.wall_time, result.simulated_time, extra={"cpu_s": cpu})
@@ -114,6 +117,19 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, in_process
             except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
                 point.message = f"error measure failed: {exc}"
     return point
+
+
+def classify(exc: BaseException) -> str:
+    """``diverged`` (the master's divergence check: an output beyond its limit or not finite), ``not converged``
+    (a coupling or Newton iteration gave up) or ``failed`` (anything else, e.g. an FMU that could not start)."""
+    from orchestrator.errors import MasterError
+
+    text = str(exc)
+    if isinstance(exc, MasterError) and ("diverged" in text or "not finite" in text):
+        return "diverged"
+    if isinstance(exc, MasterError) and "did not converge" in text:
+        return "not converged"
+    return "failed"
 
 
 def _unfinished(variant: Variant, status: str, out: Path, exc: BaseException) -> Point:

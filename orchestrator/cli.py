@@ -268,7 +268,8 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
-                        "ptos.pto.damping=8e5 (repeatable)")
+                        "ptos.pto.damping=8e5, or a list as a TOML array, e.g. 'bodies.float.dofs=[\"heave\"]' "
+                        "(repeatable)")
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)
@@ -336,7 +337,22 @@ def parser() -> argparse.ArgumentParser:
     w.add_argument("--retry-failed", action="store_true", help="run the cases recorded as failed again")
     w.add_argument("--quiet", action="store_true", help="no progress display")
     w.set_defaults(func=cmd_sweep)
+    k = sub.add_parser("bench", help="speed against error, hard cases, scaling: write the bench report (Markdown, "
+                                     "PNG, CSV) from the bundled scenarios")
+    k.add_argument("--quick", action="store_true", help="shorter runs and fewer points (under 10 minutes)")
+    k.add_argument("--out", default="bench_report", help="report folder (default ./bench_report)")
+    k.add_argument("--quiet", action="store_true", help="no progress lines")
+    k.set_defaults(func=cmd_bench)
     return p
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from benchreport.report import build
+
+    command = "wec-cosim bench" + (" --quick" if args.quick else "") + f" --out {args.out}"
+    path = build(Path(args.out), args.quick, log=print if not args.quiet else (lambda _: None), command=command)
+    print(f"report: {path}")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,7 +1,8 @@
 """Scenario keys set from the command line: ``wec-cosim run --set KEY=VALUE`` (and ``resume``, which applies
 the overrides a results file recorded). Keys are named as in a sweep grid (``section.key``,
 ``<list>.<name>.key``: :func:`sweeps.grid.resolve_key`); values are read as TOML values and converted and
-checked by the scenario schema, so an override gets the same errors as the same key in the file."""
+checked by the scenario schema, so an override gets the same errors as the same key in the file. A key that
+holds a list takes a whole TOML array (``--set 'bodies.float.dofs=["heave", "pitch"]'``)."""
 
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ def apply_overrides(scenario: Scenario, items: list[str]) -> Scenario:
         key, text = key.strip(), text.strip()
         if not sep or not key or not text:
             raise ScenarioError(f"--set {item!r}: write KEY=VALUE, e.g. mooring_lines.model=quasi_static")
-        owner, name = resolve_key(s, key, what="--set")
+        owner, name = resolve_key(s, key, what="--set", lists=True)
         value = schema.convert_field(type(owner), name, toml_scalar(text, f"--set {item}"), str(s.file),
                                      f"--set {key}")
         setattr(owner, name, value)

@@ -25,6 +25,7 @@ import itertools
 import json
 import math
 import tomllib
+import types
 import typing
 from dataclasses import dataclass, field
 from typing import Any
@@ -142,9 +143,11 @@ def _flatten(grid: dict[str, Any], scenario: Scenario, prefix: str = "") -> list
     return out
 
 
-def resolve_key(scenario: Scenario, path: str, what: str = "sweep.grid") -> tuple[Any, str]:
+def resolve_key(scenario: Scenario, path: str, what: str = "sweep.grid", lists: bool = False) -> tuple[Any, str]:
     """The dataclass holding key ``path`` and the field's name; lists of named items by name
-    (``ptos.<name>.damping``, ``bodies.<name>.geometry.radius``); ``what`` names the setting in errors."""
+    (``ptos.<name>.damping``, ``bodies.<name>.geometry.radius``); ``what`` names the setting in errors.
+    ``lists``: also accept keys holding a list of numbers or strings (``bodies.<name>.dofs``: ``--set`` takes a
+    whole TOML array; a sweep grid's values stay single values)."""
     parts = path.split(".")
     target: Any = scenario
     i = 0
@@ -168,10 +171,11 @@ def resolve_key(scenario: Scenario, path: str, what: str = "sweep.grid") -> tupl
             f"{scenario.file}: {what}: {path!r} names no key of this scenario; use `section.key` (e.g. "
             "`waves.hs`) or `<list>.<name>.key` for named items (e.g. `ptos.pto.damping`, `bodies.float.mass`)"
         ) from None
-    hint = _scalar_type(target, name)
+    hint = _scalar_type(target, name) or (_scalar_list_type(target, name) if lists else None)
     if hint is None or name == "name":
-        raise ScenarioError(f"{scenario.file}: {what}: {path!r} is not a single number, string or boolean "
-                            "and cannot be set")
+        kinds = "a single number, string or boolean, or a list of them" if lists else \
+            "a single number, string or boolean"
+        raise ScenarioError(f"{scenario.file}: {what}: {path!r} is not {kinds} and cannot be set")
     return target, name
 
 
@@ -179,6 +183,16 @@ def _scalar_type(owner: Any, name: str) -> type | None:
     hint = typing.get_type_hints(type(owner))[name]
     inner = [a for a in typing.get_args(hint) if a is not type(None)] if typing.get_origin(hint) else [hint]
     return inner[0] if len(inner) == 1 and inner[0] in SCALARS else None
+
+
+def _scalar_list_type(owner: Any, name: str) -> type | None:
+    """The element type of a ``list[float]``-like field (optional or not), else None."""
+    hint = typing.get_type_hints(type(owner))[name]
+    if typing.get_origin(hint) in (typing.Union, types.UnionType):
+        inner = [a for a in typing.get_args(hint) if a is not type(None)]
+        hint = inner[0] if len(inner) == 1 else hint
+    args = typing.get_args(hint)
+    return args[0] if typing.get_origin(hint) is list and len(args) == 1 and args[0] in SCALARS else None
 
 
 def apply_params(scenario: Scenario, params: tuple[tuple[str, Any], ...], seed: int | None = None) -> Scenario:
