@@ -22,19 +22,23 @@ ROOT = Path(__file__).resolve().parent.parent
 
 @dataclass(frozen=True)
 class Variant:
-    """A scenario file (relative to the repository root) and the ``--set KEY=VALUE`` items that make one point."""
+    """A scenario file (relative to the repository root) and the ``--set KEY=VALUE`` items that make one point;
+    ``in_process``: the FMU slaves called in process instead of through fmpy (``wec-cosim run --in-process``)."""
 
     scenario: str
     overrides: tuple[str, ...] = ()
+    in_process: bool = False
 
     def command(self) -> str:
         """The command that reruns this point."""
-        return " ".join(["wec-cosim run", self.scenario, *(f"--set {o}" for o in self.overrides)])
+        return " ".join(["wec-cosim run", self.scenario, *(f"--set {o}" for o in self.overrides),
+                         *(["--in-process"] if self.in_process else [])])
 
     def with_(self, *items: str) -> Variant:
         """This variant with more overrides (a later item for the same key wins, as on the command line)."""
         keys = {i.partition("=")[0] for i in items}
-        return Variant(self.scenario, tuple(o for o in self.overrides if o.partition("=")[0] not in keys) + items)
+        return Variant(self.scenario, tuple(o for o in self.overrides if o.partition("=")[0] not in keys) + items,
+                       self.in_process)
 
     def value(self, key: str, default: str = "") -> str:
         """The override's value for ``key`` as written, or ``default``."""
@@ -81,8 +85,9 @@ class Point:
 ErrorMeasure = Callable[["object", dict, "object"], float]  # (scene, results data, RunResult) -> relative error
 
 
-def run_point(variant: Variant, error: ErrorMeasure | None = None, *, in_process: bool = False) -> Point:
-    """Run ``variant`` through fmpy (the product's default path) and score it with ``error``.
+def run_point(variant: Variant, error: ErrorMeasure | None = None) -> Point:
+    """Run ``variant`` (through fmpy, the product's default path, unless ``variant.in_process``) and score it with
+    ``error``.
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
     a point costs its FMUs' start-up plus the stepping loop."""
@@ -102,7 +107,7 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, in_process
         out = Path(tmp) / "point.h5"
         cpu = time.process_time()
         try:
-            result = run_scenario(scenario, out, in_process=in_process, log=None, progress=False, scene=scene)
+            result = run_scenario(scenario, out, in_process=variant.in_process, log=None, progress=False, scene=scene)
         except (WecCosimError, RuntimeError, ValueError, FloatingPointError, OSError) as exc:
             return _unfinished(variant, classify(exc), out, exc)
         cpu = time.process_time() - cpu

@@ -71,7 +71,7 @@ def build(out: Path, quick: bool, log: Callable[[str], None] = print, command: s
     (out / "figures").mkdir(exist_ok=True)
     rep = Report(quick)
     rep.header = machine_lines(command or f"wec-cosim bench{' --quick' if quick else ''} --out {out}")
-    cache = PointCache(repeats=1 if quick else 2)
+    cache = PointCache()
     import matplotlib
 
     matplotlib.use("Agg")
@@ -127,7 +127,10 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
              "one process). Each panel varies one setting around the defaults over the case's macro steps (the "
              "number beside each point, s). Runs that diverged or failed are listed under the figure.", ""]
     for case in CASES:
+        base = curves[case.name][0].points[0].variant.with_("simulation.step=H")
         lines += [f"### {case.title}", "", f"![{case.name}](figures/work_precision_{case.name}.png)", "",
+                  f"Each point: `{base.command()}` plus the option's own `--set` items (the table's rows; every "
+                  "point's exact command is in points.csv). Error: " + case.error_name + ".", "",
                   "| factor | option | " + " | ".join(f"h = {h:g} s: RTF / error" for h in curves[case.name][0].steps)
                   + " |", "|---|---|" + "---|" * len(curves[case.name][0].steps)]
         for c in curves[case.name]:
@@ -173,14 +176,14 @@ def scaling_section(rep: Report, out: Path, quick: bool, log: Callable[[str], No
     rows = scaling.scene_scaling(quick, log)
     lines = ["## Scaling", "", "### Bodies: bundled scenes", "",
              f"Each scene as bundled for {rows[0].steps} macro steps at its own step; microseconds per macro step.",
-             "", "| scene | bodies | " + " | ".join(f"{m} us/step" for m, _ in scaling.MODES) + " |",
+             "", "| scene | bodies | " + " | ".join(f"{m} us/step" for m, _, _ in scaling.MODES) + " |",
              "|---|---|" + "---|" * len(scaling.MODES)]
     for r in rows:
         for mode, p in r.points.items():
             rep.record("scaling:bodies", p, case=r.scenario, option=mode)
         lines.append(f"| {r.scenario} | {r.bodies} | " + " | ".join(
             f"{r.us_per_step(m):.0f}" if r.points[m].stable else f"{r.points[m].status}: {r.points[m].message[:60]}"
-            for m, _ in scaling.MODES) + " |")
+            for m, _, _ in scaling.MODES) + " |")
     row = scaling.body_scaling(quick)
     lines += ["", "### Bodies: the multibody model alone", "",
               "A row of N hinged floating cubes on linear moorings, index-3, 0.01 s, a new input every step "
@@ -193,7 +196,7 @@ def scaling_section(rep: Report, out: Path, quick: bool, log: Callable[[str], No
               "|---|---|---|"]
     lines += [f"| {d:g} | {p.wall_time:.2f} | {p.real_time_factor:.1f} |" for d, p in durations]
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
-    for mode, _ in scaling.MODES:
+    for mode, _, _ in scaling.MODES:
         axes[0].loglog([r.bodies for r in rows], [r.us_per_step(mode) for r in rows], "o-", label=f"scenes, {mode}")
     axes[0].loglog([n for n, _ in row], [us for _, us in row], "s--", label="multibody alone (row of cubes)")
     axes[0].set(xlabel="bodies", ylabel="us per macro step")

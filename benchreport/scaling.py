@@ -1,8 +1,9 @@
 """Scaling: wall time against the number of bodies and against the simulated duration.
 
 * Bundled scenes from 1 to 24 bodies (cylinder, hinge barge, F3OF, Nenuphar, the 4N3LA and 9N9LA arrays) as
-  bundled, a fixed number of macro steps each, co-simulation through fmpy and the monolithic mode (same physics
-  in one process, no FMI): microseconds per macro step.
+  bundled, a fixed number of macro steps each, co-simulation through fmpy, the same with the FMU slaves called
+  in process, and the monolithic mode (same physics in one process, no FMI; linear multibody model only, so
+  unconstrained scenes only): microseconds per macro step.
 * The multibody model alone, a row of N hinged floating cubes (N = 1 to 40: :func:`floating_row`), index-3,
   a new input every step as in co-simulation: microseconds per step (what the joints cost as N grows, without
   hydrodynamics; ``benchmarks/bench_speed.py`` part 2 runs the same row for every formulation).
@@ -22,7 +23,10 @@ from .points import Point, Variant, run_point
 
 SCENES = (("scenarios/cylinder_regular.toml", 1), ("scenarios/hinge_barge.toml", 2), ("scenarios/f3of_dt3.toml", 3),
           ("scenarios/nenuphar.toml", 7), ("scenarios/array_4n3la.toml", 10), ("scenarios/array_9n9la.toml", 24))
-MODES = (("co-simulation (fmpy)", ()), ("monolithic", ("simulation.master=monolithic",)))
+# (label, overrides, FMU slaves called in process): the FMI layer's share is the difference of the first two;
+# the monolithic mode (one process, the linear multibody model only) refuses jointed scenes, and says so.
+MODES = (("co-simulation (fmpy)", (), False), ("co-simulation, in-process slaves", (), True),
+         ("monolithic", ("simulation.master=monolithic",), False))
 
 
 @dataclass
@@ -49,8 +53,9 @@ def scene_scaling(quick: bool, log: Callable[[str], None] | None = print) -> lis
         h = load_scenario(ROOT / scenario).simulation.step
         base = Variant(scenario, (f"simulation.duration={steps * h:g}",))
         points = {}
-        for mode, overrides in MODES:
-            points[mode] = run_point(base.with_(*overrides))
+        for mode, overrides, in_process in MODES:
+            v = base.with_(*overrides)
+            points[mode] = run_point(Variant(v.scenario, v.overrides, in_process))
             if log is not None:
                 p = points[mode]
                 log(f"  {scenario} {mode}: {p.status} {1e6 * p.wall_time / steps:.0f} us per step {p.message[:80]}")
