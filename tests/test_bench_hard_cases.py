@@ -52,3 +52,29 @@ def test_map_figure_writes_a_png_with_a_diverged_point(tmp_path):
     path = tmp_path / "maps" / "demo.png"
     hard_cases.map_figure(m, path)
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10_000
+
+
+def test_a_pto_spring_one_macro_step_long_resonates_with_the_held_input():
+    """The force input is held or ramped over each macro step; its step rhythm (kinks every h) drives a spring mode
+    whose period is exactly h at resonance: the steady response is then wrong by ~100 %, while at h / T_k = 1.5 it
+    is within 1 % of the frequency-domain answer (a stable run either way)."""
+    spec = dataclasses.replace(hard_cases.STIFF_PTO, series=hard_cases.STIFF_PTO.series[:1],
+                               quick_hardness_values=(1.0, 1.5), quick_steps=(0.1,))
+    m = hard_cases.run_map(spec, quick=True, log=lambda line: None)
+    (resonant,), (off,) = m.points["jacobi"]
+    assert resonant.stable and off.stable
+    assert resonant.error > 0.5 and off.error < 0.01, (resonant.error, off.error)
+
+
+def test_long_run_measures_hold_the_constraint_and_the_energy_balance():
+    """A minute of the hinge barge in the long run's sea: the constraint residual stays at round-off and the
+    wave-to-wire energy balance closes to 1 % of the work the waves did (physical invariants)."""
+    from benchreport.points import run_point
+
+    variant = Variant("scenarios/hinge_barge.toml", (*hard_cases.LONG_SEA, "simulation.duration=60"))
+    p = run_point(variant, measures=hard_cases._long_run_measures(20.0))
+    assert p.status == "ok", p.message
+    assert p.extra["max_violation"] < 1e-9
+    assert p.extra["first_violation"] <= p.extra["max_violation"] and p.extra["last_violation"] <= p.extra[
+        "max_violation"]
+    assert p.extra["energy_residual"] <= p.extra["largest_energy_residual"] < 0.01
