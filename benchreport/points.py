@@ -83,14 +83,16 @@ class Point:
 
 
 ErrorMeasure = Callable[["object", dict, "object"], float]  # (scene, results data, RunResult) -> relative error
+Measures = Callable[["object", dict, "object"], dict[str, float]]  # (scene, results data, RunResult) -> figures
 
 
-def run_point(variant: Variant, error: ErrorMeasure | None = None) -> Point:
+def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None) -> Point:
     """Run ``variant`` (through fmpy, the product's default path, unless ``variant.in_process``) and score it with
     ``error``.
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
-    a point costs its FMUs' start-up plus the stepping loop."""
+    a point costs its FMUs' start-up plus the stepping loop. ``measures``, if given, reads more figures from
+    the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`."""
     from orchestrator.errors import WecCosimError
     from orchestrator.overrides import apply_overrides
     from orchestrator.results import read_results
@@ -121,6 +123,8 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None) -> Point:
                 point.error = float(error(scene, data, result))
             except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
                 point.message = f"error measure failed: {exc}"
+        if measures is not None:
+            point.extra.update(measures(scene, data, result))
     return point
 
 

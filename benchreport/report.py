@@ -158,18 +158,45 @@ def reduction_section(rep: Report, quick: bool, log: Callable[[str], None]) -> s
 def hard_cases_section(rep: Report, out: Path, quick: bool, log: Callable[[str], None], plt) -> str:  # noqa: ANN001
     from . import hard_cases
 
-    lines = ["## Hard cases", ""]
+    lines = ["## Hard cases", "", "Stability maps: macro step x the case's hardness -> stable or not (a cross: the run "
+             "diverged, its coupling iteration gave up, or it failed; its own message is in points.csv) and the "
+             "error, per master and added-mass mode (`benchreport/hard_cases.py`; `python -m benchreport.hard_cases` "
+             "runs this part alone).", ""]
     for m in hard_cases.stability_maps(quick, log):
         hard_cases.map_figure(m, out / "figures" / f"stability_{m.name}.png")
         lines += [f"### {m.title}", "", f"Error: {m.error_name}.", "", f"![{m.name}](figures/stability_{m.name}.png)",
-                  ""]
+                  "", f"| series | stable runs | largest error of a stable run | at {m.hardness}, step |",
+                  "|---|---|---|---|"]
         for series, grid in m.points.items():
+            worst, where = -1.0, ""
             for value, row in zip(m.hardness_values, grid, strict=True):
                 for h, p in zip(m.steps, row, strict=True):
                     rep.record(f"hard:{m.name}", p, case=m.name, factor=series, option=f"{m.hardness}={value:g}",
                                step=h)
-    lines += hard_cases.long_run_lines(hard_cases.long_run(quick, log))
+                    if p.stable and p.error > worst:
+                        worst, where = p.error, f"{value:g}, {h:g} s"
+            cells = [p for row in grid for p in row]
+            stable = sum(p.stable for p in cells)
+            lines.append(f"| {series} | {stable} of {len(cells)} | "
+                         + (f"{100 * worst:.3g} % | {where} |" if worst >= 0 else "none | |"))
+        lines.append("")
+    lines += long_run_lines(rep, hard_cases.long_run(quick, log))
     return "\n".join(lines)
+
+
+def long_run_lines(rep: Report, run) -> list[str]:  # noqa: ANN001 - hard_cases.LongRun
+    """The long irregular sea: wall time, constraint drift and energy balance."""
+    rep.record("hard:long_run", run.point, case="hinge_barge long sea")
+    p = run.point
+    if not p.stable:
+        return [f"### {run.title}", "", f"**{p.status}** at t = {p.simulated:g} s: {p.message}",
+                f"(`{p.variant.command()}`)"]
+    return [f"### {run.title}", "", f"`{p.variant.command()}`", "",
+            f"| wall time | RTF | largest constraint residual | first / last window ({run.window:g} s) | growth | "
+            "energy residual / work in (end; largest over the run) |", "|---|---|---|---|---|---|",
+            f"| {p.wall_time:.1f} s | {p.real_time_factor:.1f} | {run.max_violation:.3g} | "
+            f"{run.first_violation:.3g} / {run.last_violation:.3g} | {run.drift:.2f} | "
+            f"{run.energy_residual:.3g}; {run.largest_energy_residual:.3g} |"]
 
 
 def scaling_section(rep: Report, out: Path, quick: bool, log: Callable[[str], None], plt) -> str:  # noqa: ANN001
