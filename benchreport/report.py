@@ -125,7 +125,8 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
     lines = ["## Work-precision", "",
              "Error against the stepping loop's wall time (FMUs through fmpy; the monolithic curve: same physics in "
              "one process). Each panel varies one setting around the defaults over the case's macro steps (the "
-             "number beside each point, s). Runs that diverged or failed are listed under the figure.", ""]
+             "number beside each point, s). Runs that did not finish are named in red in the figure and in bold in the "
+             "table (their messages are in points.csv).", ""]
     for case in CASES:
         base = curves[case.name][0].points[0].variant.with_("simulation.step=H")
         lines += [f"### {case.title}", "", f"![{case.name}](figures/work_precision_{case.name}.png)", "",

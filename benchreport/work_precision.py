@@ -80,10 +80,14 @@ def fastest_within(curves: list[Curve], tolerance: float) -> Point | None:
 
 
 def figure(case: Case, curves: list[Curve], path, plt) -> None:  # noqa: ANN001 - Path, matplotlib.pyplot
-    """One panel per factor: error against wall time, one line per option, macro steps annotated."""
+    """One panel per factor: error against wall time, one line per option, macro steps annotated; runs that did
+    not finish are named in red at the bottom of their panel."""
     factors = list(dict.fromkeys(c.factor for c in curves))
     fig, axes = plt.subplots(1, len(factors), figsize=(4.2 * len(factors), 3.8), squeeze=False)
+    from matplotlib.ticker import NullFormatter
+
     for ax, factor in zip(axes[0], factors, strict=True):
+        notes = []
         for c in (c for c in curves if c.factor == factor):
             ok = [(p.wall_time, p.error, h) for p, h in zip(c.points, c.steps, strict=True)
                   if p.stable and p.error > 0]
@@ -92,10 +96,13 @@ def figure(case: Case, curves: list[Curve], path, plt) -> None:  # noqa: ANN001 
                 for w, e, h in ok:
                     ax.annotate(f"{h:g}", (w, e), fontsize=6, xytext=(2, 2), textcoords="offset points",
                                 color=line.get_color())
-            for p, h in zip(c.points, c.steps, strict=True):
-                if not p.stable:
-                    ax.annotate(f"{c.option} {p.status} at h={h:g}", (0.02, 0.02), xycoords="axes fraction",
-                                fontsize=6, color="red")
+            bad = [f"{h:g}" for p, h in zip(c.points, c.steps, strict=True) if not p.stable]
+            if bad:
+                statuses = "/".join(sorted({p.status for p in c.points if not p.stable}))
+                notes.append(f"{c.option}: {statuses} at h = {', '.join(bad)} s")
+        for i, note in enumerate(notes):
+            ax.annotate(note, (0.02, 0.02 + 0.06 * i), xycoords="axes fraction", fontsize=6, color="red")
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_title(f"{case.name}: {factor}", fontsize=9)
         ax.set_xlabel("wall time of the stepping loop (s)")
         ax.set_ylabel("error (relative)")
