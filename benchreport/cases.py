@@ -89,7 +89,9 @@ CASES = (
     Case("f3of_dt3", "F3OF decay test 3 (seed 000), base fixed, flap released from 10 deg, three bodies, two hinges",
          Variant("scenarios/f3of_dt3.toml", ("simulation.duration=1500",)), errors.decay_error,
          "largest relative error of the period and damping ratio of the two free modes (fit after 300 s) "
-         "against the roots of the linear model",
+         "against the roots of the linear model (a floor of about 1.7 % remains at small steps, the same for "
+         "every master and formulation: the roots describe small motions, the run starts from 10 deg; not "
+         "investigated further)",
          steps=(0.2, 0.1, 0.05, 0.025), quick_steps=(0.2, 0.1, 0.05), default_step=0.1,
          factors=(MASTER, EXTRAPOLATION, FORMULATION, RADIATION),
          quick_base=Variant("scenarios/f3of_dt3.toml", ("simulation.duration=900",))),

@@ -210,6 +210,22 @@ def close_bodies_map(quick: bool, log: Callable[[str], None] = print) -> Stabili
     return run_map(CLOSE_BODIES, quick, log)
 
 
+# How to read a map where the figure alone may mislead (mechanisms checked when the maps were built, issue 19).
+READINGS = {
+    "added_mass_ratio": "With A_inf in the multibody mass matrix every master is stable at every ratio; the added "
+                        "mass as an explicit force is the partitioned-coupling instability: stable only at "
+                        "A_inf / M = 1 and first order there, diverging within seconds above it whatever the step.",
+    "stiff_pto": "Every run is stable, but where the macro step is a whole number of spring periods (h / T_k = 1, 3) "
+                 "the steady heave is wrong by ~99 % for every master, the monolithic mode included: the force "
+                 "input is held or ramped over each step, and that rhythm drives the spring mode at resonance "
+                 "(14.5 % at h / T_k = 0.95 and 1.05, within 0.1 % at 1.5 and 2.5). Keep the macro step away from "
+                 "whole multiples of the PTO's period, or below half of it.",
+    "close_bodies": "The interaction's off-diagonal added mass makes the largest eigenvalue of M^-1 A_inf exceed 1 "
+                    "already at A_inf / M = 1 (1.06), so the explicit added-mass force diverges there, where a "
+                    "single body was still stable.",
+}
+
+
 def stability_maps(quick: bool, log: Callable[[str], None] = print) -> list[StabilityMap]:
     """Every stability map of the report, in priority order."""
     return [run_map(spec, quick, log) for spec in MAPS]

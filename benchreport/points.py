@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+import shlex
 import tempfile
 import time
 from collections.abc import Callable
@@ -30,8 +31,9 @@ class Variant:
     in_process: bool = False
 
     def command(self) -> str:
-        """The command that reruns this point."""
-        return " ".join(["wec-cosim run", self.scenario, *(f"--set {o}" for o in self.overrides),
+        """The command that reruns this point, quoted for a POSIX shell."""
+        return " ".join(["wec-cosim run", shlex.quote(self.scenario),
+                         *(f"--set {shlex.quote(o)}" for o in self.overrides),
                          *(["--in-process"] if self.in_process else [])])
 
     def with_(self, *items: str) -> Variant:

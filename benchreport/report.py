@@ -166,7 +166,8 @@ def hard_cases_section(rep: Report, out: Path, quick: bool, log: Callable[[str],
     for m in hard_cases.stability_maps(quick, log):
         hard_cases.map_figure(m, out / "figures" / f"stability_{m.name}.png")
         lines += [f"### {m.title}", "", f"Error: {m.error_name}.", "", f"![{m.name}](figures/stability_{m.name}.png)",
-                  "", f"| series | stable runs | largest error of a stable run | at {m.hardness}, step |",
+                  "", *([hard_cases.READINGS[m.name], ""] if m.name in hard_cases.READINGS else []),
+                  f"| series | stable runs | largest error of a stable run | at {m.hardness}, step |",
                   "|---|---|---|---|"]
         for series, grid in m.points.items():
             worst, where = -1.0, ""
@@ -210,8 +211,11 @@ def scaling_section(rep: Report, out: Path, quick: bool, log: Callable[[str], No
         for mode, p in r.points.items():
             rep.record("scaling:bodies", p, case=r.scenario, option=mode)
         lines.append(f"| {r.scenario} | {r.bodies} | " + " | ".join(
-            f"{r.us_per_step(m):.0f}" if r.points[m].stable else f"{r.points[m].status}: {r.points[m].message[:60]}"
-            for m, _, _ in scaling.MODES) + " |")
+            f"{r.us_per_step(m):.0f}" if r.points[m].stable else r.points[m].status for m, _, _ in scaling.MODES)
+            + " |")
+    refused = next((p for r in rows for p in r.points.values() if p.status == "unavailable"), None)
+    if refused is not None:
+        lines += ["", "unavailable: the scene refuses the setting, e.g. " + refused.message.split(": ", 1)[-1]]
     row = scaling.body_scaling(quick)
     lines += ["", "### Bodies: the multibody model alone", "",
               "A row of N hinged floating cubes on linear moorings, index-3, 0.01 s, a new input every step "
@@ -276,7 +280,7 @@ def write(rep: Report, out: Path) -> Path:
     text = ["# Speed against error: the bench report", "", *rep.header,
             f"- {'quick' if rep.quick else 'full'} suite, {len(rep.csv_rows)} runs in {minutes:.1f} min; load average "
             f"at the end {load}; every point's numbers and rerun command: [points.csv](points.csv)", "",
-            *rep.first_screen, "", *rep.sections, ""]
+            *rep.first_screen, "", "\n\n".join(rep.sections), ""]
     path = out / "README.md"
     path.write_text("\n".join(text))
     return path

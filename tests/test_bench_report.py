@@ -5,6 +5,7 @@ measures against independent answers, run classification and the report files. T
 from __future__ import annotations
 
 import csv
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -31,7 +32,7 @@ def test_a_variant_reruns_as_the_command_it_prints(tmp_path: Path) -> None:
     from `wec-cosim run` with the printed arguments (the runs are deterministic)."""
     point = run_point(CYLINDER, errors.regular_wave_error)
     assert point.stable and np.isfinite(point.error)
-    args = CYLINDER.command().split()[2:]  # after "wec-cosim run"
+    args = shlex.split(CYLINDER.command())[2:]  # after "wec-cosim run"
     out = tmp_path / "rerun.h5"
     run = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", *args, "--out", str(out), "--quiet"],
                          cwd=ROOT, capture_output=True, text=True)
@@ -51,6 +52,8 @@ def test_with_replaces_a_key_and_value_reads_it() -> None:
     assert v.value("simulation.step") == "0.05" and v.value("nope", "d") == "d"
     assert v.command() == ("wec-cosim run s.toml --set waves.hs=1 --set simulation.step=0.05 "
                            "--set simulation.master=x")
+    listed = Variant("s.toml", ('bodies.b.dofs=["surge", "heave"]',))
+    assert shlex.split(listed.command())[-1] == 'bodies.b.dofs=["surge", "heave"]'  # quoted for the shell
 
 
 def test_set_takes_a_list_as_a_toml_array_and_checks_it() -> None:
