@@ -147,7 +147,7 @@ def resolve_key(scenario: Scenario, path: str, what: str = "sweep.grid", lists: 
     """The dataclass holding key ``path`` and the field's name; lists of named items by name
     (``ptos.<name>.damping``, ``bodies.<name>.geometry.radius``); ``what`` names the setting in errors.
     ``lists``: also accept keys holding a list of numbers or strings (``bodies.<name>.dofs``: ``--set`` takes a
-    whole TOML array; a sweep grid's values stay single values)."""
+    whole TOML array; sweep grids keep their own rule)."""
     parts = path.split(".")
     target: Any = scenario
     i = 0
