@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from . import errors
+from .cases import Option
 from .points import ROOT, Point, Variant, run_point
 
 REGULAR_ERROR_NAME = ("largest complex relative error |X - X_exact| / |X_exact| of the steady first harmonic of "
@@ -70,14 +71,6 @@ class StabilityMap:
 
 
 @dataclass(frozen=True)
-class Series:
-    """A series of a map: its label and the overrides that select its master and added-mass mode."""
-
-    label: str
-    overrides: tuple[str, ...] = ()
-
-
-@dataclass(frozen=True)
 class MapSpec:
     """How a map is built: the base scenario, its series and grids, and the overrides that set a point's
     hardness (``hardness_overrides(scene, hardness, step)``, from the scene's own database and masses)."""
@@ -86,7 +79,7 @@ class MapSpec:
     title: str
     hardness: str
     base: Variant
-    series: tuple[Series, ...]
+    series: tuple[Option, ...]
     hardness_values: tuple[float, ...]
     quick_hardness_values: tuple[float, ...]
     steps: tuple[float, ...]
@@ -127,10 +120,10 @@ ADDED_MASS = MapSpec(
     "M = A_inf / ratio, macro step and master / added-mass mode varied",
     "A_inf / M (heave)",
     Variant("scenarios/light_float.toml"),
-    (Series("jacobi + mass_matrix"),
-     Series("jacobi + explicit_force", ("simulation.added_mass=explicit_force",)),
-     Series("gauss_seidel + mass_matrix", ("simulation.master=gauss_seidel",)),
-     Series("iqn_ils + interface", ("simulation.master=iqn_ils", "simulation.added_mass=interface"))),
+    (Option("jacobi + mass_matrix"),
+     Option("jacobi + explicit_force", ("simulation.added_mass=explicit_force",)),
+     Option("gauss_seidel + mass_matrix", ("simulation.master=gauss_seidel",)),
+     Option("iqn_ils + interface", ("simulation.master=iqn_ils", "simulation.added_mass=interface"))),
     hardness_values=(1.0, 3.0, 10.0, 30.0, 100.0), quick_hardness_values=(1.0, 3.0, 10.0, 100.0),
     steps=(0.2, 0.1, 0.05, 0.025), quick_steps=(0.2, 0.1, 0.05),
     hardness_overrides=_mass_for_ratio)
@@ -141,8 +134,8 @@ STIFF_PTO = MapSpec(
     "period T_k = 2 pi sqrt((M + A_inf) / k) runs from 30 macro steps to a third of one, per master",
     "h / T_k (macro step / PTO spring period)",
     Variant("scenarios/cylinder_regular.toml"),
-    (Series("jacobi"), Series("gauss_seidel", ("simulation.master=gauss_seidel",)),
-     Series("iqn_ils", ("simulation.master=iqn_ils",))),
+    (Option("jacobi"), Option("gauss_seidel", ("simulation.master=gauss_seidel",)),
+     Option("iqn_ils", ("simulation.master=iqn_ils",))),
     hardness_values=(0.03, 0.1, 0.3, 0.7, 1.0, 1.5, 3.0), quick_hardness_values=(0.03, 0.3, 1.0, 1.5),
     steps=(0.2, 0.1, 0.05, 0.025), quick_steps=(0.2, 0.1, 0.05),
     hardness_overrides=_spring_for_ratio)
