@@ -77,25 +77,42 @@ def build(out: Path, quick: bool, log: Callable[[str], None] = print, command: s
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    curves = {}
-    for case in CASES:
-        log(f"work-precision: {case.name}")
-        curves[case.name] = case_curves(case, quick, cache, log)
-        figure(case, curves[case.name], out / "figures" / f"work_precision_{case.name}.png", plt)
-        for c in curves[case.name]:
-            for p, h in zip(c.points, c.steps, strict=True):
-                rep.record("work_precision", p, case=case.name, factor=c.factor, option=c.option, step=h)
-    rep.first_screen = recommended(curves, cache, quick)
-    rep.sections.append(work_precision_section(curves))
-    log("model reduction")
-    rep.sections.append(reduction_section(rep, quick, log))
-    log("hard cases")
-    rep.sections.append(hard_cases_section(rep, out, quick, log, plt))
-    log("scaling")
-    rep.sections.append(scaling_section(rep, out, quick, log, plt))
-    log("anchors")
-    rep.sections.append(anchors_section(rep, log))
+    curves: dict[str, list[Curve]] = {}
+
+    def work_precision() -> str:
+        for case in CASES:
+            log(f"work-precision: {case.name}")
+            curves[case.name] = case_curves(case, quick, cache, log)
+            figure(case, curves[case.name], out / "figures" / f"work_precision_{case.name}.png", plt)
+            for c in curves[case.name]:
+                for p, h in zip(c.points, c.steps, strict=True):
+                    rep.record("work_precision", p, case=case.name, factor=c.factor, option=c.option, step=h)
+        rep.first_screen = recommended(curves, cache, quick)
+        return work_precision_section(curves)
+
+    parts = (("work-precision", work_precision), ("model reduction", lambda: reduction_section(rep, quick, log)),
+             ("hard cases", lambda: hard_cases_section(rep, out, quick, log, plt)),
+             ("scaling", lambda: scaling_section(rep, out, quick, log, plt)),
+             ("anchors", lambda: anchors_section(rep, log)))
+    run_parts(rep, parts, out, log)
     return write(rep, out)
+
+
+def run_parts(rep: Report, parts, out: Path, log: Callable[[str], None]) -> None:  # noqa: ANN001
+    """Each part's section in turn; a part that raises leaves a section saying so and the others run; on Ctrl-C
+    the report of the parts done so far is written before the interrupt goes on."""
+    try:
+        for name, part in parts:
+            log(name)
+            try:
+                rep.sections.append(part())
+            except Exception as exc:  # noqa: BLE001 - one part's failure must not lose the others' points
+                log(f"{name} failed: {exc}")
+                rep.sections.append(f"## {name}\n\n**This part failed**: {type(exc).__name__}: {exc}")
+    except KeyboardInterrupt:
+        rep.sections.append("**Interrupted**: the parts above are complete, the rest did not run.")
+        write(rep, out)
+        raise
 
 
 def recommended(curves: dict[str, list[Curve]], cache: PointCache, quick: bool) -> list[str]:

@@ -122,6 +122,26 @@ def test_report_files_hold_every_point_with_its_command(tmp_path: Path) -> None:
     assert rows[0]["rtf"] == "120" and rows[1]["rtf"] == "" and rows[1]["command"].endswith("simulation.step=5")
 
 
+def test_a_failing_part_leaves_the_others_and_an_interrupt_keeps_the_parts_done(tmp_path: Path) -> None:
+    from benchreport.report import Report, run_parts
+
+    def broken() -> str:
+        raise ValueError("no database")
+
+    def interrupted() -> str:
+        raise KeyboardInterrupt
+
+    rep = Report(quick=True)
+    rep.record("a", Point(CYLINDER, "ok", 0.5, 60.0, error=0.001))
+    run_parts(rep, (("first", lambda: "## first"), ("second", broken), ("third", lambda: "## third")), tmp_path,
+              lambda _: None)
+    assert rep.sections[0] == "## first" and "no database" in rep.sections[1] and rep.sections[2] == "## third"
+    with pytest.raises(KeyboardInterrupt):
+        run_parts(rep, (("fourth", lambda: "## fourth"), ("fifth", interrupted)), tmp_path, lambda _: None)
+    text = (tmp_path / "README.md").read_text()
+    assert "## fourth" in text and "**Interrupted**" in text and (tmp_path / "points.csv").exists()
+
+
 @pytest.mark.slow
 def test_bench_quick_writes_the_report_in_under_ten_minutes(tmp_path: Path) -> None:
     import time
