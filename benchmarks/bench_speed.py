@@ -63,7 +63,7 @@ from scipy.integrate import solve_ivp
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import cpu_model, revision_tree, write_report  # noqa: E402
+from benchmarks.common import cpu_model, load, revision_tree, write_report  # noqa: E402
 from benchreport.scaling import floating_row  # noqa: E402
 from mbd_fmu.bodies import RigidBody  # noqa: E402
 from mbd_fmu.formulations import Settings  # noqa: E402
@@ -316,7 +316,7 @@ def main() -> None:
     lines = [f"# command: python benchmarks/bench_speed.py {' '.join(sys.argv[1:])}".rstrip(),
              f"# machine: {platform.node()}, {platform.machine()}, {cpu_model()}, {os.cpu_count()} cores, python "
              f"{platform.python_version()}, numpy {np.__version__}; load average at start "
-             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}; OPENBLAS_NUM_THREADS="
+             f"{load()}; OPENBLAS_NUM_THREADS="
              f"{os.environ.get('OPENBLAS_NUM_THREADS')}"]
     try:
         import exudyn
@@ -340,7 +340,7 @@ def main() -> None:
         section_3(lines, args.quick)
     if "4" in args.sections:
         section_4(lines, args.baseline, 1 if args.quick else 3)
-    lines.append(f"# load average at the end {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+    lines.append(f"# load average at the end {load()}; "
                  f"benchmark wall time {time.perf_counter() - t_start:.0f} s")
     write_report(lines, args.out)
 
@@ -363,7 +363,7 @@ def section_1(lines: list[str], repeats: int, steps: int) -> None:
             lines.append(f"{name:<12}{engine:<22}{t[0] * 1e6:9.1f}{t[0] / t_exu[0]:7.2f}{t[1] * 1e6:9.1f}"
                          f"{t[1] / t_exu[1]:7.2f}{e:15.3e}")
         print("\n".join(lines[-3:]), flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
 
 
 def section_2(lines: list[str], repeats: int, quick: bool) -> None:
@@ -388,7 +388,7 @@ def section_2(lines: list[str], repeats: int, quick: bool) -> None:
         cells[1] = f"{row[1][0] * 1e6:8.0f}{row[1][1] * 1e6:8.0f}{diff:9.1e}"
         lines.append(f"{n:4d}{6 * n:8d}" + "".join(cells))
         print(lines[-1], flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
 
     from benchmarks.bench_multibody import chain
 
@@ -401,7 +401,7 @@ def section_2(lines: list[str], repeats: int, quick: bool) -> None:
                     min(repeats, 3))[0] for f in ("index3", "index1", "nullspace")]
         lines.append(f"{n:4d}{6 * n:8d}" + "".join(f"{r[0] * 1e6:10.0f}{r[1] * 1e6:8.0f}" for r in row))
         print(lines[-1], flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
 
 
 def section_3(lines: list[str], quick: bool) -> None:
@@ -429,7 +429,7 @@ def section_3(lines: list[str], quick: bool) -> None:
             lines.append(f"{'':<30}(median of {len(samples)} runs; wall RTF {wall.min():.1f}-{wall.max():.1f}, "
                          f"CPU {cpu.min():.1f}-{cpu.max():.1f}: " + " ".join(f"{x:.1f}" for x in wall) + ")")
             print(lines[-1], flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
     duration, start = (30.0, 20.0) if quick else (1500.0, 300.0)
     lines += ["", "## 3b. F3OF decay test 3 (seed 000), as bundled (index-3, 0.1 s step, 10 deg start) over "
               f"{duration:g} s through fmpy: real-time factor (target >= 100) and the two free modes' period and "
@@ -455,7 +455,7 @@ def section_3(lines: list[str], quick: bool) -> None:
             (rtf, rtf_cpu), _, _ = run_scene(name, compiled, duration)
             lines.append(f"{name:<16}{label:<14}{rtf:8.2f}{rtf_cpu:7.2f}")
             print(lines[-1], flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
 
 
 def printed_rtf(tree: Path, out: Path) -> float:
@@ -485,7 +485,7 @@ def section_4(lines: list[str], baseline: str, rounds: int) -> None:
     lines.append(f"{'speed-up (ratio of medians)':<30}{np.median(rtfs['this tree']) / np.median(rtfs[baseline]):11.1f}"
                  "  (issue 15 asks for 100 / 11.6 = 8.6)")
     print("\n".join(lines[-3:]), flush=True)
-    lines.append(f"# load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    lines.append(f"# load average now {load()}")
 
 
 if __name__ == "__main__":

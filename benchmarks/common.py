@@ -11,12 +11,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchreport.machine import cpu_model  # noqa: E402
-
-
-def load() -> str:
-    """The load averages (1, 5, 15 min) as text."""
-    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+from benchreport.machine import cpu_model  # noqa: E402, F401 - re-exported for the scripts
+from benchreport.machine import load_text as load  # noqa: E402 - the load averages (1, 5, 15 min) as text
 
 
 def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:

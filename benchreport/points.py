@@ -13,7 +13,6 @@ import math
 import os
 import shlex
 import tempfile
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,14 +41,6 @@ class Variant:
         return Variant(self.scenario, tuple(o for o in self.overrides if o.partition("=")[0] not in keys) + items,
                        self.in_process)
 
-    def value(self, key: str, default: str = "") -> str:
-        """The override's value for ``key`` as written, or ``default``."""
-        for o in reversed(self.overrides):
-            k, _, v = o.partition("=")
-            if k == key:
-                return v
-        return default
-
 
 @dataclass
 class Point:
@@ -64,7 +55,7 @@ class Point:
         simulated: simulated seconds reached.
         error: the case's error measure (dimensionless, relative), NaN unless ``ok``.
         message: the run's own message when it did not finish, else notes of the error measure.
-        extra: other figures of the run (energy residual, CPU seconds, ...).
+        extra: other figures of the run (a ``measures`` function's, e.g. the long run's constraint drift).
     """
 
     variant: Variant
@@ -109,17 +100,12 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
         return Point(variant, "unavailable", math.nan, 0.0, message=" ".join(str(exc).split())[:300])
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "point.h5"
-        cpu = time.process_time()
         try:
             result = run_scenario(scenario, out, in_process=variant.in_process, log=None, progress=False, scene=scene)
         except (WecCosimError, RuntimeError, ValueError, FloatingPointError, OSError) as exc:
             return _unfinished(variant, classify(exc), out, exc)
-        cpu = time.process_time() - cpu
         data = read_results(result.path)
-        point = Point(variant, "ok", result.wall_time, result.simulated_time, extra={"cpu_s": cpu})
-        if result.energy and result.energy.get("work_in"):
-            point.extra["energy_residual"] = abs(result.energy.get("residual", math.nan)) / abs(
-                result.energy["work_in"])
+        point = Point(variant, "ok", result.wall_time, result.simulated_time)
         if error is not None:
             try:
                 point.error = float(error(scene, data, result))

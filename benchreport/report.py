@@ -21,6 +21,7 @@ from pathlib import Path
 
 from . import anchors, scaling
 from .cases import CASES
+from .machine import load_text
 from .points import ROOT, Point
 from .reduction import reduction_rows
 from .work_precision import Curve, PointCache, case_curves, default_point, fastest_within, figure
@@ -54,7 +55,7 @@ def _num(x: float) -> str:
 
 def machine_lines(command: str) -> list[str]:
     """Command, date, machine, processor, load and commit: what a reader needs to compare figures."""
-    from .machine import cpu_model, load_text
+    from .machine import cpu_model
 
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip() or "unknown"
@@ -293,7 +294,7 @@ def write(rep: Report, out: Path) -> Path:
         w.writeheader()
         w.writerows(rep.csv_rows)
     minutes = (time.time() - rep.started) / 60
-    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    load = load_text()
     text = ["# Speed against error: the bench report", "", *rep.header,
             f"- {'quick' if rep.quick else 'full'} suite, {len(rep.csv_rows)} runs in {minutes:.1f} min; load average "
             f"at the end {load}; every point's numbers and rerun command: [points.csv](points.csv)", "",

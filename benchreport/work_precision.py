@@ -2,14 +2,12 @@
 
 Every curve runs the case at each of its macro steps with the defaults except one factor (master, extrapolation
 order, multibody formulation, radiation method), so each curve shows what one choice costs and buys. The
-defaults' curve is shared by every factor (run once). A point's wall time is the minimum over ``repeats`` runs
-(default one: on a quiet machine the stepping loop's wall time repeats within a few per cent; the error does
-not vary at all: runs are deterministic).
+defaults' curve is shared by every factor (run once). Each point runs once: on a quiet machine the stepping loop's
+wall time repeats within a few per cent, and the error does not vary at all (runs are deterministic).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -31,18 +29,13 @@ class Curve:
 class PointCache:
     """Points by variant: the defaults' curve (and any repeated variant) runs once per report."""
 
-    def __init__(self, repeats: int = 1) -> None:
-        self.repeats = repeats
+    def __init__(self) -> None:
         self.points: dict[Variant, Point] = {}
 
     def get(self, variant: Variant, error, log: Callable[[str], None] | None = None) -> Point:  # noqa: ANN001
         point = self.points.get(variant)
         if point is None:
-            runs = [run_point(variant, error) for _ in range(self.repeats)]
-            point = min(runs, key=lambda p: p.wall_time if math.isfinite(p.wall_time) else math.inf)
-            if len(runs) > 1 and point.stable:
-                point.extra["wall_runs"] = len(runs)
-            self.points[variant] = point
+            point = self.points[variant] = run_point(variant, error)
             if log is not None:
                 log(describe(point))
         return point
