@@ -30,7 +30,8 @@ def run(scenario, blocks: int) -> tuple[float, float, float, float]:  # noqa: AN
     block starts, pass median elsewhere), microseconds."""
     import hydro_fmu.model as model
     from hydro_fmu.radiation import RadiationMemory
-    from orchestrator import components, simulation
+    from orchestrator.cosim import simulation
+    from orchestrator.fmi import components
 
     RadiationMemory.block_points = blocks
     passes: list[tuple[float, bool]] = []

@@ -11,14 +11,15 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchreport.machine import cpu_model  # noqa: E402, F401 - re-exported for the scripts
-from benchreport.machine import load_text as load  # noqa: E402 - the load averages (1, 5, 15 min) as text
+from wec_cosim.benchreport.machine import cpu_model  # noqa: E402, F401 - re-exported for the scripts
+from wec_cosim.benchreport.machine import load_text as load  # noqa: E402 - the load averages (1, 5, 15 min) as text
 
 
 def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:
     """The files of git revision ``ref`` (the toolkit's packages, or ``paths`` that exist at that revision)
     extracted into ``tmp``, for A/B runs against an earlier state in alternating processes."""
-    paths = paths or ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps"]
+    paths = paths or [  # "sweeps": its place before the layout of wec_cosim/
+            "fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps", "wec_cosim"]
     present = [p for p in paths if subprocess.run(["git", "cat-file", "-e", f"{ref}:{p}"], cwd=ROOT,
                                                   capture_output=True).returncode == 0]
     archive = subprocess.run(["git", "archive", ref, *present], cwd=ROOT, capture_output=True, check=True).stdout
@@ -56,7 +57,7 @@ def physics_loop(hydro, system, h: float, steps: int, record: bool = False):
 
     import numpy as np
 
-    from orchestrator.masters import step_average_weights
+    from orchestrator.cosim.masters import step_average_weights
 
     weights = step_average_weights([0.0, -h, -2 * h], h)
     history: list[np.ndarray] = []

@@ -83,7 +83,7 @@ def test_bem_solve_shows_each_frequency_and_equals_capytaines_own_fill_dataset(t
 
 
 def test_hydro_command_announces_the_solve_and_its_time(tmp_path, capsys) -> None:
-    from orchestrator.cli import main
+    from wec_cosim.cli import main
 
     scenario = tmp_path / "tiny.toml"
     scenario.write_text("""
