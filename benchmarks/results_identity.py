@@ -17,6 +17,7 @@ scenario, so the installed copy of the project is not the one measured. ``--set`
 from __future__ import annotations
 
 import argparse
+import ast
 import hashlib
 import json
 import os
@@ -31,7 +32,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 # Attributes that record the run (its wall time, when and where it ran), not what it computed.
-RUN_ATTRIBUTES = ("wall_time", "created", "finished", "python", "versions", "command", "host", "started",
+RUN_ATTRIBUTES = ("wall_time", "fmus", "created", "finished", "python", "versions", "command", "host", "started",
                   "setup_time", "stepping_time", "revision")
 
 # The command-line entry of a tree: today's package, else the one before the layout of issue 28.
@@ -101,6 +102,20 @@ def _text(value: object) -> str:
     return repr(value)
 
 
+def _normalised(attributes: dict[str, str]) -> dict[str, str]:
+    """Attributes with the checkout's path replaced by ``<tree>`` (two trees run their own copies of the scenario
+    files) and the FMU build keys of ``settings`` moved to an attribute of their own (``fmus``: content hashes of
+    the FMUs' sources, which change by design when a module moves)."""
+    scenario_file = attributes.get("/@scenario_file", "''").strip("'")
+    tree = str(Path(scenario_file).parent.parent)
+    out = {k: v.replace(tree, "<tree>") for k, v in attributes.items()}
+    if "/@settings" in out:
+        settings = json.loads(ast.literal_eval(out["/@settings"]))
+        out["/@fmus"] = repr(settings.pop("fmus", None))
+        out["/@settings"] = repr(json.dumps(settings, sort_keys=True))
+    return out
+
+
 def compare(a_path: Path, b_path: Path) -> int:
     a, b = json.loads(a_path.read_text()), json.loads(b_path.read_text())
     failures = 0
@@ -122,7 +137,7 @@ def compare(a_path: Path, b_path: Path) -> int:
             continue
         da, db = ra["datasets"], rb["datasets"]
         differ = sorted(k for k in set(da) | set(db) if da.get(k) != db.get(k))
-        attr_a, attr_b = ra["attributes"], rb["attributes"]
+        attr_a, attr_b = _normalised(ra["attributes"]), _normalised(rb["attributes"])
         attr_differ = sorted(k for k in set(attr_a) | set(attr_b) if attr_a.get(k) != attr_b.get(k))
         physics = [k for k in attr_differ if k.split("@")[-1] not in RUN_ATTRIBUTES]
         run_only = [k for k in attr_differ if k.split("@")[-1] in RUN_ATTRIBUTES]
