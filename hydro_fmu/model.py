@@ -34,7 +34,15 @@ from .linearisation import AffineForce, CouplingPattern, MemoryRate
 from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
-from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
+from .state_space import (
+    DEFAULT_MAX_ORDER,
+    DEFAULT_TOLERANCE,
+    CombinedMemory,
+    StateSpaceMemory,
+    fit_state_space,
+    frequency_error,
+    sampling_step,
+)
 from .waves import PhasorClock, Ramp, WaveComponents
 from .work import WorkAccount
 
@@ -70,6 +78,8 @@ class HydroOptions:
         tail_correction: (nodes (k,), values (k, 6 N, 6 N) on all DOFs of the model's bodies) added to that
             continuation (:func:`hydro_fmu.radiation.kramers_kronig_tail`); None: none.
         state_space_tolerance, state_space_max_order: order selection of the state-space fit.
+        still: (body, DOF) pairs whose velocity is always zero (a fixed body, a locked joint): the state-space
+            fit gives their columns no memory (:func:`hydro_fmu.state_space.fit_state_space`).
         excitation_method: ``superposition`` or ``convolution`` (non-causal impulse response).
         excitation_irf_duration: half-length of the excitation kernel (s).
         nonlinear_hydrostatics, nonlinear_froude_krylov: pressure integration over the wetted mesh.
@@ -83,6 +93,7 @@ class HydroOptions:
     tail_correction: tuple[np.ndarray, np.ndarray] | None = None
     state_space_tolerance: float = DEFAULT_TOLERANCE
     state_space_max_order: int = DEFAULT_MAX_ORDER
+    still: tuple[tuple[str, int], ...] = ()
     excitation_method: str = "superposition"
     excitation_irf_duration: float = 30.0
     nonlinear_hydrostatics: bool = False
@@ -120,7 +131,9 @@ class RadiationReport:
             :func:`hydro_fmu.state_space.scaled_error`); 0 for the convolution.
         frequency_error: error of the model's A(omega), B(omega) against the database (scaled);
             for the convolution, that of the truncated impulse response itself.
-        warnings: impulse-response accuracy warnings.
+        warnings: impulse-response accuracy warnings (and state-space blocks left to the convolution).
+        convolution_blocks: (force on body, from the motion of body) of each state-space block no order up to
+            the limit fitted, left to the convolution.
     """
 
     method: str
@@ -129,6 +142,7 @@ class RadiationReport:
     kernel_error: float = 0.0
     frequency_error: float = float("nan")
     warnings: list[str] = field(default_factory=list)
+    convolution_blocks: list[tuple[str, str]] = field(default_factory=list)
 
 
 class HydroModel:
@@ -263,19 +277,44 @@ class HydroModel:
                 self.kernel_time, self.kernel, self.hdb.omega, added_mass, table, self.added_mass_inf,
                 self._scale_floors(table))
             return RadiationMemory(self.kernel, self.dt)
-        floors = self._scale_floors(self.kernel)
         body = self.index // 6  # one realisation per pair of bodies (order proportional to what couples)
         groups = [np.nonzero(body == b)[0] for b in np.unique(body)]
+        still_pairs = {(b, int(d)) for b, d in o.still}
+        still = np.array([(self.bodies[k // 6], k % 6) in still_pairs for k in self.index], dtype=bool)
+        sampling = sampling_step(*table, float(omega[-1]), o.state_space_tolerance, float(self.kernel_time[-1]))
         fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
-                              o.state_space_max_order,
-                              kernel_function=lambda t: impulse_response(*table, t), floors=floors, groups=groups)
+                              o.state_space_max_order, kernel_function=lambda t: impulse_response(*table, t),
+                              groups=groups, kinds=self.index % 6 >= 3, still=still, fallback=True,
+                              sampling=sampling)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error
-        self.report.frequency_error = frequency_error(
-            fit, self.hdb.omega, added_mass, self.hdb.radiation_damping[:, self.index][:, :, self.index],
-            self.added_mass_inf, self._scale_floors(self.hdb.radiation_damping[:, self.index][:, :, self.index]))
-        return StateSpaceMemory(fit)
+        memory = StateSpaceMemory(fit)
+        if fit.convolution_blocks:
+            left = np.zeros_like(self.kernel)
+            for blk in fit.convolution_blocks:
+                entries = (slice(None), blk.rows[:, None], blk.columns[None, :])
+                left[entries] = self.kernel[entries]
+                self.report.convolution_blocks.append((self.bodies[int(self.index[blk.rows[0]]) // 6],
+                                                       self.bodies[int(self.index[blk.columns[0]]) // 6]))
+                self.report.warnings.append(
+                    f"radiation: the state-space fit of the force on {self.report.convolution_blocks[-1][0]} from the "
+                    f"motion of {self.report.convolution_blocks[-1][1]} reaches no better than {blk.error:.3g} (order "
+                    f"{blk.order}) against the tolerance {o.state_space_tolerance:g} within the order limit "
+                    f"{o.state_space_max_order}: that block is the convolution (raise hydro.state_space_max_order or "
+                    "hydro.state_space_tolerance to fit it)")
+            memory = CombinedMemory(memory, RadiationMemory(left, self.dt))
+        effective = fit if not fit.convolution_blocks else None
+        table_b = self.hdb.radiation_damping[:, self.index][:, :, self.index]
+        if effective is not None:
+            self.report.frequency_error = frequency_error(fit, self.hdb.omega, added_mass, table_b,
+                                                          self.added_mass_inf, self._scale_floors(table_b),
+                                                          columns=~still)
+        else:  # the combined model's A, B: the fit's transfer function plus the convolution blocks' transform
+            self.report.frequency_error = _kernel_frequency_error(
+                self.kernel_time, left, self.hdb.omega, added_mass, table_b, self.added_mass_inf,
+                self._scale_floors(table_b), fit=fit, columns=~still)
+        return memory
 
     def _scale_floors(self, table: np.ndarray) -> np.ndarray:
         """1e-3 of the largest diagonal norm among the DOFs of the same kind (translation, rotation)."""
@@ -487,8 +526,11 @@ class HydroModel:
 
 
 def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,
-                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray) -> float:
-    """Scaled error of the truncated, sampled kernel's A(omega), B(omega) against the database."""
+                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray,
+                            fit=None, columns: np.ndarray | None = None) -> float:  # noqa: ANN001 - StateSpaceFit
+    """Scaled error of the truncated, sampled kernel's A(omega), B(omega) (plus ``fit``'s transfer function, for a
+    state space with blocks left to the convolution) against the database; ``columns``: the DOFs whose columns
+    count (those that can move)."""
     from .state_space import dof_scales, scaled_error
 
     dt = t[1] - t[0]
@@ -496,5 +538,13 @@ def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray
     w[0] = w[-1] = dt / 2
     b = np.einsum("wt,tij->wij", np.cos(np.outer(omega, t)) * w, kernel)
     wa = -np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * w, kernel)
+    if fit is not None and fit.order:
+        k = fit.transfer(omega)
+        b = b + k.real
+        wa = wa + k.imag
     ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
-    return scaled_error(ref, np.concatenate([b, wa], axis=0), dof_scales(ref, floors))
+    approx = np.concatenate([b, wa], axis=0)
+    scales = dof_scales(ref, floors)
+    if columns is None:
+        return scaled_error(ref, approx, scales)
+    return scaled_error(ref[:, :, columns], approx[:, :, columns], scales, scales[columns])

@@ -41,6 +41,16 @@ class IterativeMaster(GaussSeidelMaster):
             self._slices[c] = slice(k, k + n)
             k += n
         self._n = k
+        # Each interface variable's kind: its component and unit (m, rad, m/s, rad/s from the FMU's model
+        # description; a variable without a unit is a kind of its own). The convergence test and the solvers'
+        # least squares measure a variable against the largest magnitude of its kind (_variable_scales).
+        kinds: dict[tuple, int] = {}
+        self._kind = np.array([kinds.setdefault((c, self.components[c].variables[v].unit or v)
+                                                if v in getattr(self.components[c], "variables", {}) else (c, v),
+                                                len(kinds))
+                               for c in self.integrators for v in self.output_names[c][: self.n_connected[c]]],
+                              dtype=int)
+        self._n_kinds = len(kinds)
 
     # -------------------------------------------------------------- vector <-> component dicts
     def _pack(self, y: dict[str, np.ndarray]) -> np.ndarray:
@@ -66,10 +76,30 @@ class IterativeMaster(GaussSeidelMaster):
         new = self._step_integrators(h, self._unpack(x))
         return self._pack(new), new
 
+    def _variable_scales(self, y: np.ndarray) -> np.ndarray:
+        """S_i: the largest magnitude of any interface variable of i's kind (component and unit) over the run so
+        far and in ``y`` (the running maxima are taken at every communication point)."""
+        running = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y)) \
+            if self._n else np.zeros(0)
+        per_kind = np.zeros(self._n_kinds)
+        np.maximum.at(per_kind, self._kind, running)
+        return per_kind[self._kind]
+
+    def _scaled_residual(self, r: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """|r_i| / S_i (:meth:`_variable_scales`); a variable whose kind has not moved yet (S_i = 0) counts 0 if
+        its residual is exactly 0, else infinite."""
+        s = self._variable_scales(y)
+        return np.where(s > 0, np.abs(r) / np.where(s > 0, s, 1.0), np.where(r == 0, 0.0, np.inf))
+
     def _converged(self, r: np.ndarray, y: np.ndarray) -> bool:
-        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y))
-        scale = np.maximum(scale, 1e-12 * max(1.0, float(np.max(scale, initial=0.0))))
-        return float(np.max(np.abs(r) / np.maximum(scale, 1e-300), initial=0.0)) <= self.settings.tolerance
+        """The convergence test: max_i |r_i| / S_i <= ``tolerance`` (module docstring of
+        :mod:`orchestrator.cosim.masters`)."""
+        return float(np.max(self._scaled_residual(r, y), initial=0.0)) <= self.settings.tolerance
+
+    def _weights_of(self, y: np.ndarray) -> np.ndarray:
+        """1 / S_i (1 where S_i = 0): the solvers' least squares and dot products in units of each kind's scale."""
+        s = self._variable_scales(y)
+        return np.where(s > 0, 1.0 / np.where(s > 0, s, 1.0), 1.0)
 
     def step(self, h: float, end_time: float | None = None) -> None:
         t = self.time
@@ -88,13 +118,14 @@ class IterativeMaster(GaussSeidelMaster):
         self._finish_step(h, end_time)
 
     def _fail(self, k: int, r: np.ndarray, y: np.ndarray) -> None:
-        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y))
-        rel = float(np.max(np.abs(r) / np.maximum(scale, 1e-300)))
+        rel = self._scaled_residual(r, y)
+        j = int(np.argmax(rel))
+        names = [v for c in self.integrators for v in self.output_names[c][: self.n_connected[c]]]
         hint = ("use master = 'iqn_ils'" if self.solver == "aitken" else "reduce the step")
         raise MasterError(
             f"{self.solver}: the coupling iteration did not converge at t = {self.time:g} s within "
-            f"{k} iterations (relative residual {rel:.3g}, tolerance {self.settings.tolerance:g}); "
-            f"raise simulation.max_iterations, loosen simulation.tolerance or {hint}")
+            f"{k} iterations (largest residual {rel[j]:.3g} of the scale of its kind, at {names[j]}; tolerance "
+            f"{self.settings.tolerance:g}); raise simulation.max_iterations, loosen simulation.tolerance or {hint}")
 
     def _quasi_newton(self, x: np.ndarray, h: float, states: dict) -> int:
         """Aitken-relaxed fixed point or IQN-ILS; returns the number of evaluations."""
@@ -108,10 +139,11 @@ class IterativeMaster(GaussSeidelMaster):
                 return k
             if self.solver == "aitken":
                 if rs:
-                    dr = r - rs[-1]
+                    d = self._weights_of(y)
+                    dr = d * (r - rs[-1])
                     denom = float(dr @ dr)
                     if denom > 0:
-                        self._omega = float(np.clip(-self._omega * (rs[-1] @ dr) / denom, -2.0, 2.0))
+                        self._omega = float(np.clip(-self._omega * ((d * rs[-1]) @ dr) / denom, -2.0, 2.0))
                 x_new = x + self._omega * r
             else:
                 x_new = self._iqn_update(x, r, y, rs, ys)
@@ -131,10 +163,12 @@ class IterativeMaster(GaussSeidelMaster):
             ws += list(w_old.T)
         if not vs:
             return x + self.settings.relaxation * r
+        d = self._weights_of(y)
+        vs = [d * v for v in vs]  # residual differences in units of each kind's scale
         keep = _independent_columns(vs, self._n)
         v = np.column_stack([vs[i] for i in keep])
         w = np.column_stack([ws[i] for i in keep])
-        c = np.linalg.lstsq(v, -r, rcond=None)[0]
+        c = np.linalg.lstsq(v, -d * r, rcond=None)[0]
         return y + w @ c
 
     def _remember(self, rs: list, ys: list, r: np.ndarray, y: np.ndarray) -> None:
@@ -177,7 +211,7 @@ class IterativeMaster(GaussSeidelMaster):
         the increment, so the increment is taken large against round-off: 1e-4 of the variable's scale,
         at least 1e-4 in SI units)."""
         n = self._n
-        scale = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(x))
+        scale = self._variable_scales(x)
         jac = np.empty((n, n))
         for j in range(n):
             dx = 1e-4 * max(scale[j], 1.0)
@@ -202,7 +236,7 @@ class IterativeMaster(GaussSeidelMaster):
         self._jacobians = {k: v.copy() for k, v in s["jacobians"].items()}
 
 
-def _independent_columns(columns: list[np.ndarray], limit: int, eps: float = 1e-10) -> list[int]:
+def _independent_columns(columns: list[np.ndarray], limit: int, eps: float = 1e-4) -> list[int]:
     """Indices of the columns kept by IQN-ILS's filter: in order (newest first), each kept if its
     part orthogonal to those already kept is larger than ``eps`` times its norm; at most ``limit``."""
     basis: list[np.ndarray] = []

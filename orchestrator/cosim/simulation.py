@@ -241,6 +241,8 @@ def run_scenario(
             plan.control.start()
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
         plan.radiation = radiation_report(plan)
+        for message in plan.radiation.get("warnings", []) if log is not None else []:
+            log(f"warning: {message}")
     except BaseException as exc:
         plan.master.terminate()
         extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
@@ -435,19 +437,23 @@ def _final_attrs(plan: RunPlan, state: str) -> dict:
 
 
 def radiation_report(plan: RunPlan) -> dict:
-    """The radiation model's report (method, state-space order and errors): from the hydro FMU, or
-    from the in-process model of the monolithic mode."""
+    """The radiation model's report (method, state-space order and errors, and the hydro model's warnings: state-space
+    blocks left to the convolution, impulse-response accuracy): from the hydro FMU, or from the in-process model of
+    the monolithic mode."""
     method = plan.scene.scenario.hydro.radiation_method
     hydro = getattr(plan.master, "hydro", None)
     if hydro is not None:  # monolithic: the physics object itself
         r = hydro.report
-        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error}
+        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error,
+                "warnings": list(r.warnings)}
     comp = plan.master.components.get(HYDRO) if hasattr(plan.master, "components") else None
     names = ["radiation.order", "radiation.fit_error", "radiation.frequency_error"]
     if comp is None or any(n not in comp.variables for n in names):
         return {}
     order, fit_error, frequency_error = (float(v) for v in comp.get_reals(comp.port(names)))
-    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error}
+    warnings = [w for w in comp.warnings() if w.startswith("radiation")] if hasattr(comp, "warnings") else []
+    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error,
+            "warnings": warnings}
 
 
 def _run_statistics(plan: RunPlan) -> dict:
@@ -561,6 +567,7 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
+    lines += [f"warning: {w}" for w in r.get("warnings", [])]
     if result.mean_power:
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes
