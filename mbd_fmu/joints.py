@@ -40,6 +40,11 @@ JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "sp
 JOINT_DOF = {"fixed": 0, "revolute": 1, "prismatic": 1, "cylindrical": 2, "universal": 2, "spherical": 3,
              "planar": 3, "distance": 5}
 # (position unit, rate unit) of each coordinate a joint kind reports (FMU outputs, results files)
+JOINT_COORDINATE_NAMES = {
+    "fixed": [], "revolute": ["angle"], "prismatic": ["displacement"], "cylindrical": ["displacement", "angle"],
+    "universal": ["rotation_x", "rotation_y", "rotation_z"], "spherical": ["rotation_x", "rotation_y", "rotation_z"],
+    "planar": ["x", "y", "angle"], "distance": ["length"],
+}
 JOINT_COORDINATE_UNITS = {
     "fixed": [], "revolute": [("rad", "rad/s")], "prismatic": [("m", "m/s")],
     "cylindrical": [("m", "m/s"), ("rad", "rad/s")], "universal": [("rad", "rad/s")] * 3,
@@ -150,16 +155,11 @@ def compile_joint(joint: Joint, m1: Marker, m2: Marker, length: float = 0.0) -> 
     angle = Angle(b1, b2, a1, x2)
     rotation = [RotationComponent(b1, b2, a1, a2, k) for k in range(3)]
     coords = {
-        "fixed": ([], []),
-        "revolute": ([angle], ["angle"]),
-        "prismatic": ([slide(z1)], ["displacement"]),
-        "cylindrical": ([slide(z1), angle], ["displacement", "angle"]),
-        "universal": (rotation, ["rotation_x", "rotation_y", "rotation_z"]),
-        "spherical": (rotation, ["rotation_x", "rotation_y", "rotation_z"]),
-        "planar": ([slide(x1), slide(y1), angle], ["x", "y", "angle"]),
-        "distance": ([Distance(b1, b2, m1.offset, m2.offset)], ["length"]),
+        "fixed": [], "revolute": [angle], "prismatic": [slide(z1)], "cylindrical": [slide(z1), angle],
+        "universal": rotation, "spherical": rotation, "planar": [slide(x1), slide(y1), angle],
+        "distance": [Distance(b1, b2, m1.offset, m2.offset)],
     }[joint.kind]
-    cj.coordinates, cj.coordinate_names = coords
+    cj.coordinates, cj.coordinate_names = coords, list(JOINT_COORDINATE_NAMES[joint.kind])
     return cj
 
 

@@ -26,6 +26,7 @@ from orchestrator.scenario import DOFS, Scenario, parse_scenario
 from orchestrator.scenario.input_checks import check_output
 from orchestrator.scene import HYDRO, Scene, load_scene
 
+from . import error_estimate, step_choice
 from .control_loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .interrupts import InterruptAtStep
@@ -80,6 +81,8 @@ class RunResult:
     notes: list[str] = field(default_factory=list)
     mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
     power_window: str = ""
+    error_estimate: error_estimate.ErrorEstimate | None = None
+    step_choice: step_choice.StepChoice | None = None  # simulation.error_tolerance's runs
 
     @property
     def real_time_factor(self) -> float:
@@ -225,6 +228,10 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
+    if sim.error_tolerance is not None:  # runs at chosen steps (orchestrator.cosim.step_choice)
+        return step_choice.run_to_tolerance(
+            scenario, path, lambda s, out: run_scenario(s, out, in_process=in_process, log=log, progress=progress,
+                                                         scene=scene), log)
     plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     try:
         writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
@@ -394,7 +401,14 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
+    result.error_estimate = error_estimate.for_run(plan.scene, writer.path, _quiet_run, data)
     return result
+
+
+def _quiet_run(scenario: Scenario, output: Path, scene: Scene) -> RunResult:
+    """A run of ``scenario`` into ``output`` with its slaves in process and nothing printed (the coarse shadow of
+    :mod:`.error_estimate`)."""
+    return run_scenario(scenario, output, in_process=True, log=None, progress=False, scene=scene)
 
 
 def control_notes(stats: dict | None, fallback: str) -> list[str]:
@@ -571,6 +585,10 @@ def format_summary(result: RunResult) -> str:
     if result.mean_power:
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes
+    if result.error_estimate is not None:
+        lines.append(result.error_estimate.text())
+    if result.step_choice is not None:
+        lines.append(result.step_choice.text())
     lines.append(
         f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")

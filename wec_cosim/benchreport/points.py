@@ -54,6 +54,7 @@ class Point:
         wall_time: wall-clock seconds of the stepping loop (initialisation excluded); NaN if it did not start.
         simulated: simulated seconds reached.
         error: the case's error measure (dimensionless, relative), NaN unless ``ok``.
+        estimate: the run's own estimate of that error (:mod:`orchestrator.cosim.error_estimate`), NaN if none.
         message: the run's own message when it did not finish, else notes of the error measure.
         extra: other figures of the run (a ``measures`` function's, e.g. the long run's constraint drift).
     """
@@ -63,6 +64,7 @@ class Point:
     wall_time: float
     simulated: float
     error: float = math.nan
+    estimate: float = math.nan
     message: str = ""
     extra: dict[str, float] = field(default_factory=dict)
 
@@ -79,13 +81,15 @@ ErrorMeasure = Callable[["object", dict, "object"], float]  # (scene, results da
 Measures = Callable[["object", dict, "object"], dict[str, float]]  # (scene, results data, RunResult) -> figures
 
 
-def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None) -> Point:
+def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None,
+              estimate: ErrorMeasure | None = None) -> Point:
     """Run ``variant`` (through fmpy, the product's default path, unless ``variant.in_process``) and score it with
     ``error``.
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
     a point costs its FMUs' start-up plus the stepping loop. ``measures``, if given, reads more figures from
-    the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`."""
+    the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`; ``estimate`` scores
+    the run's own estimate of ``error`` into :attr:`Point.estimate`."""
     from orchestrator.cosim.simulation import run_scenario
     from orchestrator.errors import WecCosimError
     from orchestrator.results import read_results
@@ -110,6 +114,16 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
                 point.error = float(error(scene, data, result))
             except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
                 point.message = f"error measure failed: {exc}"
+        if estimate is not None:
+            try:
+                point.estimate = float(estimate(scene, data, result))
+            except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
+                point.message += f" error estimate failed: {exc}"
+            e = getattr(result, "error_estimate", None)
+            if e is not None and not e.available:
+                point.message += f" no error estimate: {e.method}"
+            elif e is not None:
+                point.extra["shadow_wall_time"] = e.shadow_wall_time
         if measures is not None:
             point.extra.update(measures(scene, data, result))
     return point
