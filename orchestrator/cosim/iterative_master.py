@@ -78,12 +78,13 @@ class IterativeMaster(GaussSeidelMaster):
 
     def _variable_scales(self, y: np.ndarray) -> np.ndarray:
         """S_i: the largest magnitude of any interface variable of i's kind (component and unit) over the run so
-        far and in ``y`` (the running maxima are taken at every communication point)."""
+        far and in ``y`` (the running maxima are taken at every communication point), at least ``precision`` /
+        ``tolerance`` (the integrating FMU's own accuracy: no iteration gets below it)."""
         running = np.maximum(np.concatenate([self._scale[c] for c in self.integrators]), np.abs(y)) \
             if self._n else np.zeros(0)
         per_kind = np.zeros(self._n_kinds)
         np.maximum.at(per_kind, self._kind, running)
-        return per_kind[self._kind]
+        return np.maximum(per_kind[self._kind], self.settings.precision / self.settings.tolerance)
 
     def _scaled_residual(self, r: np.ndarray, y: np.ndarray) -> np.ndarray:
         """|r_i| / S_i (:meth:`_variable_scales`); a variable whose kind has not moved yet (S_i = 0) counts 0 if
@@ -92,8 +93,8 @@ class IterativeMaster(GaussSeidelMaster):
         return np.where(s > 0, np.abs(r) / np.where(s > 0, s, 1.0), np.where(r == 0, 0.0, np.inf))
 
     def _converged(self, r: np.ndarray, y: np.ndarray) -> bool:
-        """The convergence test: max_i |r_i| / S_i <= ``tolerance`` (module docstring of
-        :mod:`orchestrator.cosim.masters`)."""
+        """The convergence test: |r_i| <= max(``tolerance`` S_i, ``precision``) for every interface variable i
+        (module docstring of :mod:`orchestrator.cosim.masters`)."""
         return float(np.max(self._scaled_residual(r, y), initial=0.0)) <= self.settings.tolerance
 
     def _weights_of(self, y: np.ndarray) -> np.ndarray:

@@ -34,6 +34,7 @@ from .master_factory import make_master
 from .masters import Master, MasterSettings
 from .monolithic import MonolithicMaster
 from .recorder import Recorder  # noqa: F401 - (also imported from here)
+from .step_checks import aliasing_warnings
 from .step_control import EnergyStepController, FixedStepController, StepController
 
 
@@ -108,6 +109,7 @@ class RunPlan:
     control: ControlLoop | None = None
     radiation: dict = field(default_factory=dict)
     mobility: dict | None = None
+    warnings: list[str] = field(default_factory=list)  # said in the run's first lines and its summary
 
     @property
     def series(self) -> dict[str, tuple[int, ...]]:
@@ -132,7 +134,18 @@ def master_settings(scenario: Scenario, scene: Scene | None = None) -> MasterSet
     return MasterSettings(extrapolation=sim.extrapolation, tolerance=sim.tolerance,
                           max_iterations=sim.max_iterations, relaxation=sim.relaxation, reuse=sim.iqn_reuse,
                           divergence_limit=sim.divergence_limit,
-                          energy_scale=energy_scale(scene) if scene is not None else 1.0)
+                          energy_scale=energy_scale(scene) if scene is not None else 1.0,
+                          precision=multibody_precision(scenario))
+
+
+def multibody_precision(scenario: Scenario) -> float:
+    """Absolute accuracy of the multibody FMU's outputs (m, rad, m/s, rad/s): 10 times its Newton tolerance times
+    its length scale (the larger of 1 m and the farthest centre of gravity, ``mbd_fmu.formulations``) for the
+    constrained formulations; 0 for the linear model (exact steps) and the plain multibody FMU (explicit steps)."""
+    if scenario.formulation == "linear" or scenario.simulation.added_mass == "interface":
+        return 0.0
+    length = max([1.0] + [float(np.max(np.abs(b.cg))) for b in scenario.bodies])
+    return 10 * scenario.multibody.newton_tolerance * length
 
 
 def energy_scale(scene: Scene) -> float:
@@ -188,7 +201,11 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     report = mobility(scene)
     if report and log is not None:
         log(f"multibody: {report['summary']}")
-    return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+    plan = RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+    plan.warnings = aliasing_warnings(scene)
+    for message in plan.warnings if log is not None else []:
+        log(f"warning: {message}")
+    return plan
 
 
 def mobility(scene: Scene) -> dict | None:
@@ -384,7 +401,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     except OSError as exc:  # the last rows could not be flushed
         _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
-                       radiation=plan.radiation, mobility=plan.mobility)
+                       radiation=plan.radiation, mobility=plan.mobility,
+                       notes=[f"warning: {w}" for w in plan.warnings])
     data = read_results(writer.path) if plan.recorder.wave_balance else None
     if data is not None:
         result.energy = energy_account(data)
