@@ -30,7 +30,10 @@ MASTERS = {"hinge_barge": ("jacobi", "gauss_seidel", "iqn_ils"),
            "f3of_dt3": ("jacobi", "gauss_seidel", "iqn_ils"),
            "two_floats_irregular": ("jacobi", "gauss_seidel", "iqn_ils", "monolithic")}
 # Seed 003's tank-test range (tests/test_hinge_barge_frequencies.py): steady state after an 8 s ramp and 6 s (40 s
-# at 7.85 rad/s, where barge 1's surge mode rings long), fitted over 10 periods, at T/100.
+# at 7.85 rad/s, where barge 1's surge mode rings long), fitted over 10 periods, at T/100; wave amplitude 1 mm, the
+# linear regime where the frequency-domain answer is exact (at the test's 1 cm the motions' own nonlinearity moves the
+# steady state by 0.46 % at 4 rad/s, near the 4.8 rad/s mode, at every step: not an error of the time stepping).
+AMPLITUDE = 0.001
 FREQUENCIES = (2.61, 3.14, 4.0, 5.0, 5.8, 6.28, 7.0, 7.85)
 SETTLE = {7.85: 40.0}
 
@@ -79,8 +82,9 @@ def frequency_rows() -> list[tuple[str, bool]]:
         h = period / 100
         periods = math.ceil((8.0 + SETTLE.get(omega, 6.0)) / period) + 10
         v = Variant("scenarios/hinge_barge.toml", (
-            "waves.height=0.02", f"waves.period={period!r}", "waves.ramp_time=8.0", f"simulation.step={h!r}",
-            f"multibody.max_step={h!r}", f"simulation.duration={periods * period!r}", "simulation.steady_periods=10"),
+            f"waves.height={2 * AMPLITUDE:g}", f"waves.period={period!r}", "waves.ramp_time=8.0",
+            f"simulation.step={h!r}", f"multibody.max_step={h!r}", f"simulation.duration={periods * period!r}",
+            "simulation.steady_periods=10"),
             in_process=True)
         p = run_point(v, errors.regular_wave_error, estimate=errors.run_estimate)
         out.append(row(f"hinge_barge {omega:g} rad/s", "jacobi", round(h, 5), p))

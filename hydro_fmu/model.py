@@ -39,7 +39,7 @@ from .state_space import (
     DEFAULT_TOLERANCE,
     CombinedMemory,
     StateSpaceMemory,
-    fit_state_space,
+    fit_cached,
     frequency_error,
     sampling_step,
 )
@@ -282,10 +282,9 @@ class HydroModel:
         still_pairs = {(b, int(d)) for b, d in o.still}
         still = np.array([(self.bodies[k // 6], k % 6) in still_pairs for k in self.index], dtype=bool)
         sampling = sampling_step(*table, float(omega[-1]), o.state_space_tolerance, float(self.kernel_time[-1]))
-        fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
-                              o.state_space_max_order, kernel_function=lambda t: impulse_response(*table, t),
-                              groups=groups, kinds=self.index % 6 >= 3, still=still, fallback=True,
-                              sampling=sampling)
+        fit = fit_cached(table, self.kernel_time, self.kernel, omega_max=float(omega[-1]),
+                         tolerance=o.state_space_tolerance, max_order=o.state_space_max_order, groups=groups,
+                         kinds=self.index % 6 >= 3, still=still, fallback=True, sampling=sampling)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error

@@ -37,6 +37,7 @@ the trapezoidal convolution.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.linalg import expm
@@ -249,6 +250,42 @@ def fit_state_space(
         c[ga, k:k + o] = cb
         k += o
     return StateSpaceFit(a, b, c, r, worst, tolerance, history=history, convolution_blocks=left)
+
+
+_FITS: dict[str, StateSpaceFit] = {}  # fits made in this process, by their inputs (fit_cached)
+
+
+def fit_cached(table: tuple[np.ndarray, np.ndarray], kernel_time: np.ndarray, kernel: np.ndarray, **kwargs: Any
+               ) -> StateSpaceFit:
+    """:func:`fit_state_space` of the kernel of ``table`` (omega, B) (``kernel_function`` its impulse response), kept
+    in this process for the same inputs: the fit does not depend on the grid the kernel is given on, and a run's
+    error estimate makes the same fit three times (the run's hydro FMU, its coarse shadow's, the frequency domain's
+    model of the run's radiation)."""
+    import hashlib
+
+    from .radiation import impulse_response
+
+    digest = hashlib.sha256()
+    for array in (*table, kernel_time[-1:]):
+        value = np.ascontiguousarray(array)
+        digest.update(f"{value.dtype.str}{value.shape}".encode())
+        digest.update(value.tobytes())
+    for key in sorted(kwargs):
+        value = kwargs[key]
+        if isinstance(value, list):  # groups
+            value = [np.asarray(g).tolist() for g in value]
+        elif isinstance(value, np.ndarray):
+            value = value.tolist()
+        digest.update(f"{key}={value!r};".encode())
+    key = digest.hexdigest()
+    if key not in _FITS:
+        if len(_FITS) >= 8:
+            _FITS.pop(next(iter(_FITS)))
+        _FITS[key] = fit_state_space(kernel_time, kernel, kernel_function=lambda t: impulse_response(*table, t),
+                                     **kwargs)
+    fit = _FITS[key]
+    return StateSpaceFit(fit.a.copy(), fit.b.copy(), fit.c.copy(), fit.order, fit.kernel_error, fit.tolerance,
+                         fit.frequency_error, list(fit.history), list(fit.convolution_blocks))
 
 
 def _fit_block(ts: np.ndarray, samples: np.ndarray, d: float, rows: np.ndarray, cols: np.ndarray,

@@ -82,14 +82,16 @@ Measures = Callable[["object", dict, "object"], dict[str, float]]  # (scene, res
 
 
 def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None,
-              estimate: ErrorMeasure | None = None) -> Point:
+              estimate: ErrorMeasure | None = None, shadow: bool = True) -> Point:
     """Run ``variant`` (through fmpy, the product's default path, unless ``variant.in_process``) and score it with
     ``error``.
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
     a point costs its FMUs' start-up plus the stepping loop. ``measures``, if given, reads more figures from
     the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`; ``estimate`` scores
-    the run's own estimate of ``error`` into :attr:`Point.estimate`."""
+    the run's own estimate of ``error`` into :attr:`Point.estimate`. ``shadow=False``: the run makes no error estimate
+    (``simulation.error_estimate = "none"``, for the parts that measure stability or speed alone: the stepping loop is
+    the same, the report takes less time)."""
     from orchestrator.cosim.simulation import run_scenario
     from orchestrator.errors import WecCosimError
     from orchestrator.results import read_results
@@ -97,7 +99,8 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
     from orchestrator.scene import load_scene
 
     try:
-        scenario = apply_overrides(load_scenario(ROOT / variant.scenario), list(variant.overrides))
+        scenario = apply_overrides(load_scenario(ROOT / variant.scenario),
+                                   list(variant.overrides) + ([] if shadow else ["simulation.error_estimate=none"]))
         scene = load_scene(scenario, log=None)
     except WecCosimError as exc:  # the settings do not apply to this scene (e.g. monolithic with joints)
         return Point(variant, "unavailable", math.nan, 0.0, message=" ".join(str(exc).split())[:300])
