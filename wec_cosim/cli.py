@@ -59,7 +59,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from orchestrator.cosim.simulation import format_summary, run_scenario
     from orchestrator.scenario import apply_overrides
 
-    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [], what="--set")
     if args.duration is not None:
         _override_duration(scenario, args.duration)
     if args.out is not None:
@@ -261,7 +261,10 @@ def _seconds(text: str) -> float:
 
 
 def parser() -> argparse.ArgumentParser:
+    from . import version
+
     p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
+    p.add_argument("--version", action="version", version=f"wec-cosim {version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("run", help="run a time-domain co-simulation")
     r.add_argument("scenario")
