@@ -203,11 +203,12 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
 
 
-# CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine
-# (benchmarks/results/first_run.txt: the multibody kernels; the hydrodynamic ones: a cold cylinder run, 12.8 s
-# of CPU against 5 s warm).
+# CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
+# kernels in benchmarks/results/first_run.txt (146-164 s), the hydrodynamic ones and the null-space ones in
+# benchmarks/results/first_run_notice.txt (a cold cylinder run 12.8 s of CPU against 5.0 s warm; a cold
+# null-space hinge-barge run 195 s in all).
 COMPILE_SECONDS = {("hydro_fmu", "kernels"): 8.0, ("mbd_fmu", "kernels"): 155.0,
-                   ("mbd_fmu", "nullspace_kernels"): 60.0}
+                   ("mbd_fmu", "nullspace_kernels"): 35.0}
 
 
 def compile_notice(scene: Scene) -> str | None:
