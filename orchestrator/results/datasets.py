@@ -511,13 +511,11 @@ def steady_dataset(path: str | Path) -> xr.Dataset:
             coords["dof"] = ("dof", list(DOFS), {"long_name": "degree of freedom (world axes)"})
             variables["body_harmonics"] = (
                 ("period", "harmonic", "body", "dof"),
-                np.stack([np.stack([_padded(g[f"bodies/{b}/harmonics"][()], n + 1) for b in bodies], axis=1)
-                          for g in groups]),
+                _per_period(groups, "bodies/{}/harmonics", bodies, n + 1),
                 _attrs("body motion harmonics (complex)", list(DOF_UNITS), "dof"))
             variables["body_one_period"] = (
                 ("period", "sample", "body", "dof"),
-                np.stack([np.stack([_padded(g[f"bodies/{b}/one_period"][()], samples) for b in bodies], axis=1)
-                          for g in groups]),
+                _per_period(groups, "bodies/{}/one_period", bodies, samples),
                 _attrs("body motion over one period", list(DOF_UNITS), "dof"))
         ptos = _names(first.get("ptos"), "mean_power", [p.name for p in scenario.ptos] if scenario else [])
         if ptos:
@@ -535,18 +533,23 @@ def steady_dataset(path: str | Path) -> xr.Dataset:
                 coords.update(_coordinate_coords(labels))
                 variables["joint_harmonics"] = (
                     ("period", "harmonic", "coordinate"),
-                    np.stack([np.concatenate([_padded(g[f"joints/{j}/harmonics"][()], n + 1) for j in joints], axis=1)
-                              for g in groups]),
+                    _per_period(groups, "joints/{}/harmonics", joints, n + 1, join=np.concatenate),
                     _attrs("joint coordinate harmonics (complex)", [lab[2] for lab in labels], "coordinate"))
             coords["joint"] = ("joint", joints, {"long_name": "joint"})
             coords["load"] = ("load", list(LOADS), {"long_name": "force and moment components (world frame)"})
             variables["joint_reaction_harmonics"] = (
                 ("period", "harmonic", "joint", "load"),
-                np.stack([np.stack([_padded(g[f"joints/{j}/reaction_harmonics"][()], n + 1) for j in joints], axis=1)
-                          for g in groups]),
+                _per_period(groups, "joints/{}/reaction_harmonics", joints, n + 1),
                 _attrs("joint reaction harmonics on body 2 from body 1, moment about the joint point (complex)",
                        list(LOAD_UNITS), "load"))
     return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _per_period(groups: list[h5py.Group], path: str, names: list[str], length: int,
+                join: Callable[..., np.ndarray] = np.stack) -> np.ndarray:
+    """``path.format(name)`` of every group (wave period) and name, each padded to ``length`` rows: (period, rows,
+    name, ...) with ``np.stack``, names' columns side by side with ``np.concatenate``."""
+    return np.stack([join([_padded(g[path.format(name)][()], length) for name in names], axis=1) for g in groups])
 
 
 def _padded(values: np.ndarray | list, length: int) -> np.ndarray:
