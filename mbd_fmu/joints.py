@@ -40,16 +40,17 @@ JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "sp
 JOINT_DOF = {"fixed": 0, "revolute": 1, "prismatic": 1, "cylindrical": 2, "universal": 2, "spherical": 3,
              "planar": 3, "distance": 5}
 # (position unit, rate unit) of each coordinate a joint kind reports (FMU outputs, results files)
-JOINT_COORDINATE_NAMES = {
-    "fixed": [], "revolute": ["angle"], "prismatic": ["displacement"], "cylindrical": ["displacement", "angle"],
-    "universal": ["rotation_x", "rotation_y", "rotation_z"], "spherical": ["rotation_x", "rotation_y", "rotation_z"],
-    "planar": ["x", "y", "angle"], "distance": ["length"],
-}
 JOINT_COORDINATE_UNITS = {
     "fixed": [], "revolute": [("rad", "rad/s")], "prismatic": [("m", "m/s")],
     "cylindrical": [("m", "m/s"), ("rad", "rad/s")], "universal": [("rad", "rad/s")] * 3,
     "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
     "distance": [("m", "m/s")],
+}
+# The names of each kind's coordinates (FMU ``<joint>.coordinate[k]``, in order; units above).
+JOINT_COORDINATE_NAMES = {
+    "fixed": [], "revolute": ["angle"], "prismatic": ["displacement"], "cylindrical": ["displacement", "angle"],
+    "universal": ["rotation_x", "rotation_y", "rotation_z"], "spherical": ["rotation_x", "rotation_y", "rotation_z"],
+    "planar": ["x", "y", "angle"], "distance": ["length"],
 }
 
 
@@ -154,12 +155,17 @@ def compile_joint(joint: Joint, m1: Marker, m2: Marker, length: float = 0.0) -> 
     slide = lambda n: Slide(b1, b2, n, m1.offset, m2.offset)  # noqa: E731
     angle = Angle(b1, b2, a1, x2)
     rotation = [RotationComponent(b1, b2, a1, a2, k) for k in range(3)]
-    coords = {
-        "fixed": [], "revolute": [angle], "prismatic": [slide(z1)], "cylindrical": [slide(z1), angle],
-        "universal": rotation, "spherical": rotation, "planar": [slide(x1), slide(y1), angle],
+    coordinates = {
+        "fixed": [],
+        "revolute": [angle],
+        "prismatic": [slide(z1)],
+        "cylindrical": [slide(z1), angle],
+        "universal": rotation,
+        "spherical": rotation,
+        "planar": [slide(x1), slide(y1), angle],
         "distance": [Distance(b1, b2, m1.offset, m2.offset)],
     }[joint.kind]
-    cj.coordinates, cj.coordinate_names = coords, list(JOINT_COORDINATE_NAMES[joint.kind])
+    cj.coordinates, cj.coordinate_names = coordinates, list(JOINT_COORDINATE_NAMES[joint.kind])
     return cj
 
 

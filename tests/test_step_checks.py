@@ -1,4 +1,4 @@
-"""A macro step that aliases a fast mode onto the waves is said in the run's first lines (orchestrator.cosim.step_checks).
+"""A macro step that aliases a fast mode onto the waves is said in the run's first lines (cosim.step_checks).
 
 The floating cylinder with a stiff PTO spring of natural period T_k: at h = T_k (the mode seen at zero frequency,
 among the waves) the held force drives the spring at resonance and the steady heave is far off the exact answer;
