@@ -1,10 +1,10 @@
 """The run's error estimate against the true error: the bench report's three cases at four steps and three or four
-masters each, and the hinge barge across seed 003's frequencies.
+masters each, and the hinge barge across the tank tests' frequencies of Paparella et al.
 
 True error: each case's measure against its independent answer (``wec_cosim.benchreport.errors``: the exact
 frequency-domain steady state, the linear model's roots, the exact linear response to the realised sea).
 Estimate: the run's own (``orchestrator.cosim.error_estimate``: Richardson against a coarse shadow at 2h plus the
-radiation model's share; for the decay, the same Richardson step on the fitted modes). Criterion (issue): the
+radiation model's share; for the decay, the same Richardson step on the fitted modes). Criterion: the
 estimate within a factor of 3 of the true error, and never below a third of it where the true error exceeds
 0.1 %.
 

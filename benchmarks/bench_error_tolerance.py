@@ -1,7 +1,7 @@
 """``simulation.error_tolerance`` at 1 % and 0.1 %: the step the run chooses from its own error estimate, the true
 error it reaches, and its wall time beside the fastest fixed step that meets the same error.
 
-Cases (issue): the hinge barge as bundled (regular waves H 0.02 m, T 2 s), F3OF in regular waves at 9 s (the bundled
+Cases: the hinge barge as bundled (regular waves H 0.02 m, T 2 s), F3OF in regular waves at 9 s (the bundled
 RAO scenario at the period where the base's heave resonance makes the step matter: 21 % off at its 0.1 s step), and
 the two floats in the bench report's JONSWAP sea. True errors against independent answers: the hinge barge's and
 the floats' as the bench report measures them (``wec_cosim.benchreport.errors``); F3OF's as its acceptance test

@@ -2,7 +2,7 @@
 
 Each scene runs with ``simulation.master = "jacobi"`` and ``"iqn_ils"`` in alternation (``--repeat`` times each,
 the stepping loop's wall time as the run reports it, no error estimate), at a step where IQN-ILS converges in about
-two evaluations per step; the table gives the medians, their ratio and IQN-ILS's evaluations per step. The issue's
+two evaluations per step; the table gives the medians, their ratio and IQN-ILS's evaluations per step. The
 target: within 3x of Jacobi where the iteration converges in one or two evaluations.
 
     python benchmarks/bench_iterative_cost.py [--repeat 3] [--out benchmarks/results/iterative_cost.txt]
