@@ -74,7 +74,7 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t + '\n[control]\nmode = "lockstep"\nperiod = 0.15\n',
      ["control.period", "whole number of macro steps"]),
     (lambda t: t.replace("steady_periods = 10", "steady_periods = 10\nerror_tolerance = 1.5"),
-     ["simulation.error_tolerance must be between 0 and 1"]),
+     ["simulation.error_tolerance must be at least 0 and below 1"]),
     (lambda t: t.replace("steady_periods = 10", 'steady_periods = 10\nerror_estimate = "often"'),
      ["simulation.error_estimate", "'often' is not one of"]),
     (lambda t: t.replace("steady_periods = 10", 'steady_periods = 10\nerror_tolerance = 0.01\nerror_estimate = "none"'),

@@ -136,7 +136,7 @@ def shadow_scenario(scenario: Scenario) -> Scenario:
     sim.duration = math.floor(sim.duration / coarse + 1e-9) * coarse
     sim.step = coarse
     sim.error_estimate = "none"
-    sim.error_tolerance = None
+    sim.error_tolerance = 0.0
     sim.output_every = 1
     sim.checkpoint_every = 0.0
     sim.output = ""

@@ -310,7 +310,7 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    if sim.error_tolerance is not None:  # runs at chosen steps (orchestrator.cosim.step_choice)
+    if sim.error_tolerance:  # runs at chosen steps (orchestrator.cosim.step_choice)
         return step_choice.run_to_tolerance(
             scenario, path, lambda s, out: run_scenario(s, out, in_process=in_process, log=log, progress=progress,
                                                          scene=scene), log)

@@ -94,7 +94,7 @@ def run_to_tolerance(scenario: Scenario, output: Path, run: Callable[[Scenario, 
     for k in range(MAX_RUNS):
         s = copy.deepcopy(scenario)
         s.simulation.step = step
-        s.simulation.error_tolerance = None
+        s.simulation.error_tolerance = 0.0
         s.simulation.error_estimate = "richardson"
         part = output.with_name(f"{output.stem}.step{k}{output.suffix}")
         start = time.perf_counter()

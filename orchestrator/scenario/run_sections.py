@@ -7,8 +7,12 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from .schema import fraction, non_negative, option, positive
+from .schema import non_negative, option, positive
 from .sea_sections import FrequencyGrid
+
+
+def _tolerance(value: float) -> str | None:
+    return None if 0 <= value < 1 else "must be at least 0 and below 1"
 
 
 def _order(value: int) -> str | None:
@@ -99,11 +103,12 @@ class SimulationSection:
         doc="the run's error estimate (summary and results file): `richardson`, against a coarse shadow run at "
             "twice the step (about half the run's cost more) plus the radiation model's share from the frequency "
             "domain; `none`")
-    error_tolerance: float | None = option(
-        None, check=fraction,
+    error_tolerance: float = option(
+        0.0, check=_tolerance,
         doc="choose the macro step (fixed for the run, a whole fraction of the duration) so that the error "
             "estimate is at most this (relative): runs at `step` first, then at the step the estimate's order "
-            "predicts, until the estimate meets it; the summary reports the steps tried and the estimates")
+            "predicts, until the estimate meets it; the summary reports the steps tried and the estimates; 0 = off "
+            "(`step` as given)")
 
     @property
     def iterative(self) -> bool:
