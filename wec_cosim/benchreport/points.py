@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+CONVOLUTION_BLOCKS = "state-space blocks left to the convolution"  # a point's message when the fit fell back
 
 
 @dataclass(frozen=True)
@@ -112,6 +113,10 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
             return _unfinished(variant, classify(exc), out, exc)
         data = read_results(result.path)
         point = Point(variant, "ok", result.wall_time, result.simulated_time)
+        blocks = [w for w in result.radiation.get("warnings", []) if "that block is the convolution" in w]
+        if blocks:
+            point.message = f"{CONVOLUTION_BLOCKS}: " + "; ".join(w.split(" reaches")[0].split("fit of ")[-1]
+                                                                 for w in blocks)
         if error is not None:
             try:
                 point.error = float(error(scene, data, result))

@@ -22,7 +22,7 @@ from pathlib import Path
 from . import anchors, scaling
 from .cases import CASES
 from .machine import load_text
-from .points import ROOT, Point
+from .points import CONVOLUTION_BLOCKS, ROOT, Point
 from .reduction import reduction_rows
 from .work_precision import Curve, PointCache, case_curves, default_point, fastest_within, figure
 
@@ -168,10 +168,21 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
                   "| factor | option | " + " | ".join(f"h = {h:g} s: RTF / error (estimate)"
                                                     for h in curves[case.name][0].steps)
                   + " |", "|---|---|" + "---|" * len(curves[case.name][0].steps)]
+        fallback = set()
         for c in curves[case.name]:
-            cells = [f"{p.real_time_factor:.0f} / {100 * p.error:.2g} % ({_short(p.estimate)})" if p.stable
-                     else f"**{p.status}**" for p in c.points]
+            cells = []
+            for p in c.points:
+                mark = ""
+                if p.message.startswith(CONVOLUTION_BLOCKS):
+                    mark = " †"
+                    fallback.add(p.message)
+                cells.append(f"{p.real_time_factor:.0f} / {100 * p.error:.2g} % ({_short(p.estimate)}){mark}"
+                             if p.stable else f"**{p.status}**")
             lines.append(f"| {c.factor} | {c.option} | " + " | ".join(cells) + " |")
+        if fallback:
+            lines += ["", "† The state-space fit could not reach the tolerance within `hydro.state_space_max_order` "
+                      "for some blocks, which the run left to the convolution and named in its first lines: "
+                      + " / ".join(sorted(m.split(": ", 1)[1] for m in fallback)) + "."]
         lines.append("")
     return "\n".join(lines)
 
