@@ -9,10 +9,11 @@ estimate within a factor of 3 of the true error, and never below a third of it w
 0.1 %.
 
 The FMU slaves run in process (the same physics and numbers as through fmpy: the errors are deterministic and do not
-depend on the FMI layer). Usage::
+depend on the FMI layer). With ``--points docs/bench/points.csv`` the three cases' rows come from the bench report's
+work-precision points instead (every factor's option, through fmpy), and only the frequency sweep runs here. Usage::
 
     python benchmarks/bench_error_estimate.py [--cases hinge_barge,f3of_dt3,two_floats_irregular,frequencies]
-        [--out benchmarks/results/error_estimate.txt]
+        [--points docs/bench/points.csv] [--out benchmarks/results/error_estimate.txt]
 """
 
 from __future__ import annotations
@@ -92,21 +93,49 @@ def frequency_rows() -> list[tuple[str, bool]]:
     return out
 
 
+def csv_rows(path: str, names: list[str]) -> list[tuple[str, bool]]:
+    """The bench report's work-precision points of ``names`` (every factor and option) as rows of this table."""
+    import csv
+
+    out = []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            if r["part"] != "work_precision" or r["case"] not in names:
+                continue
+            label = f"{r['factor']}: {r['option']}"
+            if r["status"] != "ok":
+                out.append((f"| {r['case']} | {label} | {float(r['step']):g} | {r['status']}: {r['message'][:80]} "
+                            "| | | | |", False))
+                continue
+            true, est = float(r["error"] or "nan"), float(r["estimate"] or "nan")
+            v = verdict(true, est)
+            out.append((f"| {r['case']} | {label} | {float(r['step']):g} | {true:.3g} | {est:.3g} | "
+                        f"{est / true if true > 0 else math.nan:.2f} | {v} | {float(r['rtf'] or 'nan'):.0f} |",
+                        v.startswith("ok") or v.startswith("low")))
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cases", default="hinge_barge,f3of_dt3,two_floats_irregular,frequencies")
+    parser.add_argument("--points", default=None, help="the bench report's points.csv: its cases' rows from there")
     parser.add_argument("--out", default=None)
     args = parser.parse_args()
     quiet_threads()
     lines = report_header("bench_error_estimate.py")
     start = time.perf_counter()
     rows: list[tuple[str, bool]] = []
-    for name in args.cases.split(","):
+    names = args.cases.split(",")
+    if args.points:
+        rows += csv_rows(args.points, [n for n in names if n != "frequencies"])
+        names = [n for n in names if n == "frequencies"]
+    for name in names:
         rows += frequency_rows() if name == "frequencies" else case_rows(name)
     from common import load
 
     good = sum(ok for _, ok in rows)
-    lines += ["", "| case | master | step (s) | true error | estimate | estimate / true | within 3x | RTF / shadow |",
+    lines += ["", "| case | master (or factor: option) | step (s) | true error | estimate | estimate / true "
+              "| within 3x | RTF (/ shadow) |",
               "|---|---|---|---|---|---|---|---|", *[r for r, _ in rows], "",
               f"{good} of {len(rows)} points within a factor of 3 (or both below 0.1 %); "
               f"{time.perf_counter() - start:.0f} s; load average at the end {load()}"]
