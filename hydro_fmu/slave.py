@@ -115,7 +115,7 @@ class HydroSlave(VectorSlave):
         self._register_report()
         try:  # built now so that the calculated parameters are right from the start
             self._build_if_changed()
-        except ValueError:  # e.g. no state-space fit within the tolerance: reported at initialisation
+        except ValueError:  # e.g. no stable state-space realisation at all: reported at initialisation
             self.model = None
 
     # ------------------------------------------------------------------ variables
