@@ -53,6 +53,7 @@ from orchestrator.scene import Scene
 
 SHADOW = "error_estimate/shadow"  # results-file group of the shadow's series
 QUADRATURE_REFINEMENT = 4  # the radiation model's share: its kernel transformed at this fraction of the step
+ASYMPTOTIC = 0.3  # a shadow farther than this (relative) from the run: Richardson's premise does not hold
 METHOD = ("Richardson extrapolation against a coarse shadow on every other point of the macro grid (step 2h, "
           "order {order}) plus the radiation model's share from the frequency domain")
 
@@ -70,6 +71,9 @@ class ErrorEstimate:
         time_discretisation, radiation_model: the two parts of the headline quantity alone (relative).
         quantities: label -> estimated relative error of every quantity of the measure.
         shadow_wall_time: wall-clock seconds of the shadow run (initialisation included).
+        shadow_distance: the largest difference between the shadow and the run over the measure's quantities,
+            relative as the errors are; above ``ASYMPTOTIC`` the coarse step is outside the range where the error
+            scales as h^p (the run is near a stability limit or far from convergence) and the estimate says so.
     """
 
     available: bool
@@ -83,6 +87,7 @@ class ErrorEstimate:
     radiation_model: float = math.nan
     quantities: dict[str, float] = field(default_factory=dict)
     shadow_wall_time: float = 0.0
+    shadow_distance: float = math.nan
 
     def to_json(self) -> dict:
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
@@ -92,8 +97,13 @@ class ErrorEstimate:
         if not self.available:
             return f"error estimate: none ({self.method})"
         parts = f"time stepping {_pct(self.time_discretisation)}, radiation model {_pct(self.radiation_model)}"
+        caveat = ""
+        if self.shadow_distance > ASYMPTOTIC:
+            caveat = (f"; NOT RELIABLE: the coarse shadow is {_pct(self.shadow_distance)} away from the run, outside "
+                      "the range where the error scales with the step (this step is near a stability limit or far "
+                      "from convergence: take a smaller one)")
         return (f"error estimate: {_pct(self.value)} ({self.measure}; {parts}); {self.method}, shadow "
-                f"{self.shadow_wall_time:.2f} s")
+                f"{self.shadow_wall_time:.2f} s{caveat}")
 
 
 def _pct(x: float) -> str:
@@ -245,6 +255,7 @@ def _harmonic_estimate(scene: Scene, data: dict[str, Any], shadow: dict[str, Any
           "steady first harmonic of every body DOF and joint coordinate, complex relative error, the largest")
 
 
+
 def _trajectory_estimate(scene: Scene, data: dict[str, Any], shadow: dict[str, Any], out: ErrorEstimate) -> None:
     """RMS deviation of each body DOF over the window after the ramp and the radiation memory (the whole run in
     still water), Richardson at the shared points plus the radiation model's steady response share."""
@@ -291,6 +302,7 @@ def _trajectory_estimate(scene: Scene, data: dict[str, Any], shadow: dict[str, A
         out.value = float(quantities[k])
         out.time_discretisation = float(time_rms[k] / denominator[k])
         out.radiation_model = float(model_rms[k] / denominator[k])
+        out.shadow_distance = (2.0**out.order - 1.0) * float(np.max(np.array(time_rms) / denominator))
     del units_
 
 
@@ -308,6 +320,7 @@ def _fill(out: ErrorEstimate, labels: list[str], units: list[str], time_part: np
         out.value = float(quantities[k])
         out.time_discretisation = float(abs(time_part[k]) / denominator[k])
         out.radiation_model = float(abs(model_part[k]) / denominator[k])
+        out.shadow_distance = (2.0**out.order - 1.0) * float(np.max(np.abs(time_part) / denominator))
 
 
 def _rms(x: np.ndarray) -> float:

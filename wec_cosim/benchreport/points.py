@@ -132,6 +132,7 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
                 point.message += f" no error estimate: {e.method}"
             elif e is not None:
                 point.extra["shadow_wall_time"] = e.shadow_wall_time
+                point.extra["shadow_distance"] = e.shadow_distance
         if measures is not None:
             point.extra.update(measures(scene, data, result))
     return point

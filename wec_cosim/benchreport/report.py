@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 
+from orchestrator.cosim.error_estimate import ASYMPTOTIC
+
 from . import anchors, scaling
 from .cases import CASES
 from .machine import load_text
@@ -46,6 +48,7 @@ class Report:
                               "status": point.status, "wall_s": _num(point.wall_time),
                               "rtf": _num(point.real_time_factor), "error": _num(point.error),
                               "estimate": _num(point.estimate),
+                              "shadow_distance": _num(point.extra.get("shadow_distance", math.nan)),
                               "simulated_s": _num(point.simulated), "message": point.message,
                               "command": point.variant.command()})
 
@@ -168,7 +171,7 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
                   "| factor | option | " + " | ".join(f"h = {h:g} s: RTF / error (estimate)"
                                                     for h in curves[case.name][0].steps)
                   + " |", "|---|---|" + "---|" * len(curves[case.name][0].steps)]
-        fallback = set()
+        fallback, unreliable = set(), False
         for c in curves[case.name]:
             cells = []
             for p in c.points:
@@ -176,9 +179,15 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
                 if p.message.startswith(CONVOLUTION_BLOCKS):
                     mark = " †"
                     fallback.add(p.message)
-                cells.append(f"{p.real_time_factor:.0f} / {100 * p.error:.2g} % ({_short(p.estimate)}){mark}"
+                far = "*" if p.extra.get("shadow_distance", 0.0) > ASYMPTOTIC else ""
+                unreliable |= bool(far)
+                cells.append(f"{p.real_time_factor:.0f} / {100 * p.error:.2g} % ({_short(p.estimate)}{far}){mark}"
                              if p.stable else f"**{p.status}**")
             lines.append(f"| {c.factor} | {c.option} | " + " | ".join(cells) + " |")
+        if unreliable:
+            lines += ["", f"* The run's coarse shadow (twice the step) was more than {100 * ASYMPTOTIC:g} % away from "
+                      "it: outside the range where the error scales with the step, the run says its estimate is not "
+                      "reliable (the step is near a stability limit or far from convergence)."]
         if fallback:
             lines += ["", "† The state-space fit could not reach the tolerance within `hydro.state_space_max_order` "
                       "for some blocks, which the run left to the convolution and named in its first lines: "
