@@ -13,6 +13,7 @@ depend on the FMI layer). With ``--points docs/bench/points.csv`` the three case
 work-precision points instead (every factor's option, through fmpy), and only the frequency sweep runs here. Usage::
 
     python benchmarks/bench_error_estimate.py [--cases hinge_barge,f3of_dt3,two_floats_irregular,frequencies]
+        [--masters jacobi,iqn_ils] [--steps 0.2,0.1] [--quick]
         [--points docs/bench/points.csv] [--out benchmarks/results/error_estimate.txt]
 """
 
@@ -64,12 +65,20 @@ def row(label: str, master: str, h: float, point) -> tuple[str, bool]:  # noqa: 
     return text, v.startswith("ok") or v.startswith("low")
 
 
-def case_rows(name: str) -> list[tuple[str, bool]]:
+def case_rows(name: str, masters: list[str] | None = None, steps: list[float] | None = None,
+              quick: bool = False) -> list[tuple[str, bool]]:
+    """Rows of one case: its masters (or ``masters``) at its steps (or those of ``steps`` among them), on the case's
+    full run or (``quick``) the bench report's quick run (F3OF DT3: 900 s of decay instead of 1500 s)."""
     case = next(c for c in CASES if c.name == name)
+    base = case.variant(quick)
     out = []
-    for master in MASTERS[name]:
+    for master in masters or MASTERS[name]:
+        if master not in MASTERS[name]:
+            continue
         for h in case.steps:
-            v = Variant(case.base.scenario, case.base.overrides, in_process=True).with_(
+            if steps and not any(math.isclose(h, s) for s in steps):
+                continue
+            v = Variant(base.scenario, base.overrides, in_process=True).with_(
                 f"simulation.master={master}", f"simulation.step={h:g}")
             p = run_point(v, case.error, estimate=case.estimate)
             out.append(row(name, master, h, p))
@@ -124,8 +133,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cases", default="hinge_barge,f3of_dt3,two_floats_irregular,frequencies")
     parser.add_argument("--points", default=None, help="the bench report's points.csv: its cases' rows from there")
+    parser.add_argument("--masters", default=None, help="comma-separated: only these masters of each case")
+    parser.add_argument("--steps", default=None, help="comma-separated macro steps (s): only these of each case")
+    parser.add_argument("--quick", action="store_true", help="the cases' quick runs (the bench report's --quick)")
     parser.add_argument("--out", default=None)
     args = parser.parse_args()
+    masters = args.masters.split(",") if args.masters else None
+    steps = [float(s) for s in args.steps.split(",")] if args.steps else None
     quiet_threads()
     lines = report_header("bench_error_estimate.py")
     start = time.perf_counter()
@@ -135,7 +149,7 @@ def main() -> None:
         rows += csv_rows(args.points, [n for n in names if n != "frequencies"])
         names = [n for n in names if n == "frequencies"]
     for name in names:
-        rows += frequency_rows() if name == "frequencies" else case_rows(name)
+        rows += frequency_rows() if name == "frequencies" else case_rows(name, masters, steps, args.quick)
     from common import load
 
     good = sum(ok for _, ok in rows)

@@ -185,6 +185,8 @@ class IterativeMaster(GaussSeidelMaster):
             keep = slice(None)  # every column independent (the usual case): the filter keeps them all
         else:
             keep = _independent_columns(v, self._n)
+            if not keep:  # every secant column zero (the residual repeated exactly): a relaxed fixed-point step
+                return x + self.settings.relaxation * r
             q, rr = np.linalg.qr(v[:, keep])
         c = np.linalg.solve(rr, -(q.T @ (d * r)))
         return y + w[:, keep] @ c
