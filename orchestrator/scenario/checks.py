@@ -165,9 +165,8 @@ def _check_waves(s: Scenario) -> None:
         path = s.resolve(w.elevation_file)
         if not path.is_file():
             raise ScenarioError(f"{f}: waves.elevation_file: file {path} does not exist")
-        if path.suffix.lower() not in (".csv", ".txt", ".h5", ".hdf5"):
-            raise ScenarioError(f"{f}: waves.elevation_file: {path.name} is neither CSV (.csv, .txt) nor HDF5 "
-                                "(.h5, .hdf5)")
+        # Any name: .h5/.hdf5 is HDF5, .mat WEC-Sim's MATLAB file, anything else a text table (the reader says which
+        # form it found, or what is wrong with the file).
     if w.spreading_s > 0 and w.kind != "irregular":
         raise ScenarioError(f"{f}: waves.spreading_s applies to irregular seas only")
     if w.spreading_s > 0 and s.hydro.excitation_method == "convolution":
