@@ -73,7 +73,9 @@ def cmd_rao(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_rao_file
     from orchestrator.scene import load_scene
 
-    scenario = _scenario(args.scenario)
+    from orchestrator.scenario import apply_overrides
+
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.form:
         scenario.rao.form = args.form
     out = _out(args.out)
@@ -89,7 +91,9 @@ def cmd_steady(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_steady_file
     from orchestrator.scene import load_scene
 
-    scenario = _scenario(args.scenario)
+    from orchestrator.scenario import apply_overrides
+
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     out = _out(args.out)
     scene = load_scene(scenario, progress=True)
     states = write_steady_file(scene, out, args.harmonics, args.form)
@@ -260,6 +264,14 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _add_set(command: argparse.ArgumentParser) -> None:
+    """The ``--set KEY=VALUE`` option, the same keys for run, rao and steady."""
+    command.add_argument("--set", action="append", metavar="KEY=VALUE",
+                         help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
+                              "ptos.pto.damping=8e5, or a list as a TOML array, e.g. 'bodies.float.dofs=[\"heave\"]' "
+                              "(repeatable; recorded in the output file)")
+
+
 def parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -267,10 +279,7 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")
     r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
-    r.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
-                        "ptos.pto.damping=8e5, or a list as a TOML array, e.g. 'bodies.float.dofs=[\"heave\"]' "
-                        "(repeatable)")
+    _add_set(r)
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)
@@ -278,6 +287,7 @@ def parser() -> argparse.ArgumentParser:
     a.add_argument("scenario")
     a.add_argument("--out", required=True, help="output HDF5 file")
     a.add_argument("--form", choices=("dae", "ode"), help="override rao.form")
+    _add_set(a)
     a.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     a.set_defaults(func=cmd_rao)
     y = sub.add_parser("steady", help="pseudo-spectral periodic steady state in regular waves (nonlinear forces)")
@@ -285,6 +295,7 @@ def parser() -> argparse.ArgumentParser:
     y.add_argument("--out", required=True, help="output HDF5 file")
     y.add_argument("--harmonics", type=_positive_int, help="override steady.harmonics")
     y.add_argument("--form", choices=("dae", "ode"), help="override steady.form")
+    _add_set(y)
     y.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     y.set_defaults(func=cmd_steady)
     h = sub.add_parser("hydro", help="build or refresh the scenario's hydrodynamic database")

@@ -392,6 +392,12 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
+    if scenario._duration_note:
+        result.notes.append(scenario._duration_note)
+    if scenario.waves.kind == "elevation":
+        record = plan.scene.sea().record
+        result.notes.append(f"waves: elevation record {record.source} read as {record.form} "
+                            f"({len(record.eta)} samples every {record.dt:g} s)")
     return result
 
 
@@ -529,6 +535,17 @@ def _powers_text(powers: dict[str, float], many: int = 6) -> str:
             + ", ".join(f"{name} {p / scale:.4g} {unit}" for name, p in largest))
 
 
+def _residual_share(e: dict) -> str:
+    """The residual as a share of the account's largest term: the work in when waves drive the bodies, the stored
+    energy released in a decay in still water (where the work in is zero and a share of it means nothing)."""
+    terms = {k: abs(e[k]) for k in ("work_in", "pto", "radiated", "dissipated", "stored")}
+    key = "work_in" if terms["work_in"] >= 0.5 * max(terms.values()) else max(terms, key=terms.get)
+    if not terms[key] > 0:
+        return ""
+    what = "the work in" if key == "work_in" else f"the largest term ({key.replace('_', ' ')})"
+    return f" ({100 * e['residual'] / terms[key]:.3g} % of {what})"
+
+
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
@@ -543,10 +560,9 @@ def format_summary(result: RunResult) -> str:
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
     e = result.energy
     if e:
-        scale = max(abs(e["work_in"]), 1e-300)
         lines.append("energy account (J): " + ", ".join(
             f"{k.replace('_', ' ')} {e[k]:.6g}" for k in ("work_in", "pto", "radiated", "dissipated", "stored"))
-            + f"; residual {e['residual']:.3g} ({100 * e['residual'] / scale:.3g} % of the work in)")
+            + f"; residual {e['residual']:.3g} J" + _residual_share(e))
     st = result.statistics
     if "mean_iterations" in st:
         lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "

@@ -71,16 +71,27 @@ def check_scenario(s: Scenario) -> None:
     input_checks.check_files(s)
 
 
+def _whole_steps(s: Scenario) -> None:
+    """A duration that is not a whole number of steps is rounded to the nearest whole number of steps (at least
+    one): the radiation memory and the masters run on whole steps, and a shortened last step would leave that grid.
+    The scenario keeps a note (``_duration_note``), which the run's summary prints."""
+    sim = s.simulation
+    n = sim.duration / sim.step
+    whole = max(1, round(n))
+    if abs(n - whole) > 1e-6 * max(1.0, n):
+        requested = sim.duration
+        sim.duration = whole * sim.step
+        s._duration_note = (
+            f"simulation.duration = {requested:g} s is not a whole number of {sim.step:g} s steps: the run covers "
+            f"{whole} steps, {sim.duration:.10g} s (the duration rounded to the nearest whole step)")
+
+
 def check_simulation(s: Scenario) -> None:
     f = str(s.file)
     sim = s.simulation
     if sim.step > sim.duration:
         raise ScenarioError(f"{f}: simulation.step ({sim.step} s) is longer than the duration ({sim.duration} s)")
-    n = sim.duration / sim.step
-    if abs(n - round(n)) > 1e-6 * max(1.0, n):
-        raise ScenarioError(
-            f"{f}: simulation.duration ({sim.duration} s) is not a whole number of steps of {sim.step} s; "
-            "change the duration or the step")
+    _whole_steps(s)
     if sim.added_mass == "interface" and not sim.iterative:
         raise ScenarioError(
             f"{f}: simulation.added_mass = 'interface' solves the added-mass force within each step and needs an "

@@ -44,6 +44,7 @@ class Scenario:
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
     _overrides: list[str] = field(default_factory=list, init=False, repr=False)  # `wec-cosim run --set` items
+    _duration_note: str = field(default="", init=False, repr=False)  # duration rounded to whole steps (checks.py)
 
     @property
     def file(self) -> Path:
