@@ -294,3 +294,16 @@ def test_water_depth_of_the_database_is_checked(tmp_path) -> None:
     assert proc.returncode == 2, proc.stderr
     assert "water depth of 30 m" in proc.stderr and "Set environment.water_depth = 30" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_hydro_export_writes_what_wec_sim_reads(tmp_path) -> None:
+    """`wec-cosim hydro SCENARIO --export F.h5`: the cylinder's database with the groups, readable by us."""
+    out = tmp_path / "cylinder_wecsim.h5"
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "hydro", str(SCENARIOS / "cylinder_regular.toml"),
+                           "--export", str(out)], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    hdb, groups = read_bemio(out), read_wec_sim_groups(out)
+    expected = impulse_response(hdb.omega, hdb.radiation_damping, groups.t)
+    np.testing.assert_allclose(groups.kernel, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
+    heave = groups.state_space_response(groups.t)[:, 2, 2]
+    assert np.linalg.norm(heave - expected[:, 2, 2]) < 0.05 * np.linalg.norm(expected[:, 2, 2])

@@ -122,9 +122,15 @@ def cmd_hydro(args: argparse.Namespace) -> int:
     from orchestrator.scene import load_database
 
     scenario = _scenario(args.scenario)
+    out = _out(args.export) if args.export is not None else None
     hdb, path = load_database(scenario, refresh=args.refresh, progress=True)
     print(f"{path}: {hdb.n_bodies} bodies, {len(hdb.omega)} frequencies "
           f"{hdb.omega[0]:g}..{hdb.omega[-1]:g} rad/s, {len(hdb.headings)} headings ({hdb.source})")
+    if out is not None:
+        from hydro_fmu.bemio import write_bemio
+
+        write_bemio(hdb, out, wec_sim_groups=True)
+        print(f"{out}: the scene's database as BEMIO HDF5 with the impulse responses and state space WEC-Sim reads")
     return 0
 
 
@@ -301,6 +307,9 @@ def parser() -> argparse.ArgumentParser:
     h = sub.add_parser("hydro", help="build or refresh the scenario's hydrodynamic database")
     h.add_argument("scenario")
     h.add_argument("--refresh", action="store_true", help="recompute even if cached")
+    h.add_argument("--export", metavar="FILE.h5",
+                   help="also write the scene's database (its bodies, about their cgs) as BEMIO HDF5 with the "
+                        "radiation and excitation impulse responses and the state-space realisation WEC-Sim reads")
     h.set_defaults(func=cmd_hydro)
     b = sub.add_parser("build-fmus", help="build the scenario's hydrodynamics and multibody FMUs")
     b.add_argument("scenario")
