@@ -374,8 +374,11 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         writer.close(status="completed", wall_time=wall, attrs=attrs)
     except OSError as exc:  # the last rows could not be flushed
         _write_failure(plan, writer, exc, start)
+    radiation = dict(plan.radiation)
+    if radiation.get("method") == "convolution" and "frequency_error" in radiation:
+        radiation["check"] = plan.scene.radiation_check().text(radiation["frequency_error"])
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
-                       radiation=plan.radiation, mobility=plan.mobility)
+                       radiation=radiation, mobility=plan.mobility)
     data = read_results(writer.path) if plan.recorder.wave_balance else None
     if data is not None:
         result.energy = energy_account(data)
@@ -574,9 +577,11 @@ def format_summary(result: RunResult) -> str:
     if r.get("method") == "state_space":
         lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
                      f"A and B against the database {r['frequency_error']:.3g}")
+    elif r.get("check"):
+        lines += ["radiation: convolution", r["check"]]
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
-                     f"{r['frequency_error']:.3g}")
+                     f"{r['frequency_error']:.3g} (relative 2-norm, no unit)")
     if result.mean_power:
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes

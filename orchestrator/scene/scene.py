@@ -177,6 +177,39 @@ class Scene:
                           s.hydro.irf_duration, self.switches(), self.hydro_options(),
                           record=sea.record)
 
+    def radiation_check(self, dt: float | None = None):
+        """How well the convolution kernel of the hydro model reproduces the database, per degree of freedom
+        (:func:`hydro_fmu.radiation_check.impedance_check`), with each DOF's structural inertia."""
+        from hydro_fmu.hdb import DOF_NAMES
+        from hydro_fmu.radiation_check import impedance_check
+
+        s, index = self.scenario, self.hydro_index()
+        block = np.ix_(index, index)
+        bodies = {b.name: b for b in s.bodies}
+        inertia = [self.body_mass(bodies[name]) if d < 3 else self.inertia_matrix(bodies[name])[d - 3, d - 3]
+                   for name, d in self.hydro_coordinates]
+        correction = self.tail_correction()
+        if correction is not None:
+            correction = (correction[0], np.asarray(correction[1])[(slice(None),) + block])
+        h = s.hydro
+        return impedance_check(self.hdb.omega, self.hdb.added_mass[(slice(None),) + block],
+                               self.hdb.radiation_damping[(slice(None),) + block], self.hdb.added_mass_inf[block],
+                               np.array(inertia), [f"{name} {DOF_NAMES[d]}" for name, d in self.hydro_coordinates],
+                               dt or s.simulation.step, h.irf_duration, d_omega=h.irf_d_omega,
+                               tail_exponent=h.damping_tail, tail_correction=correction, band=self._sea_band())
+
+    def _sea_band(self) -> tuple[float, float] | None:
+        """The frequencies of the sea's components that carry 99.9 % of its variance (rad/s); None in still water."""
+        waves = self.waves()
+        if not len(waves.omega):
+            return None
+        energy = np.asarray(waves.amplitude, dtype=float) ** 2
+        order = np.argsort(waves.omega)
+        share = np.cumsum(energy[order]) / energy.sum()
+        lo = waves.omega[order][np.searchsorted(share, 0.0005)]
+        hi = waves.omega[order][min(len(order) - 1, np.searchsorted(share, 0.9995))]
+        return float(lo), float(hi)
+
     def hydro_index(self) -> np.ndarray:
         """Index of each hydro coordinate in the database's 6N numbering."""
         return np.array([6 * self.hydro_bodies.index(b) + d for b, d in self.hydro_coordinates], dtype=int)
