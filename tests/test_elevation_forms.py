@@ -57,7 +57,8 @@ def test_mat_file_without_a_two_column_array_is_named(tmp_path) -> None:
 
     path = tmp_path / "eta.mat"
     savemat(path, {"waves": np.zeros((3, 3))})
-    with pytest.raises(WaveDataError, match=r"eta.mat: a WEC-Sim elevation file holds one N x 2 array .*waves \(3, 3\)"):
+    with pytest.raises(WaveDataError, match=r"eta.mat: a WEC-Sim elevation file holds one N x 2 array .*waves "
+                                            r"\(3, 3\)"):
         read_elevation(path)
 
 
@@ -76,5 +77,6 @@ def test_run_summary_names_the_form(tmp_path) -> None:
     result = run_scenario(load_scenario(tmp_path / "eta_run.toml"), tmp_path / "out.h5", in_process=True,
                           progress=False, log=None)
     summary = format_summary(result)
-    assert "waves: elevation record" in summary and "etaData.mat read as WEC-Sim elevation file (MATLAB 5 .mat" in summary
+    assert "waves: elevation record" in summary
+    assert "etaData.mat read as WEC-Sim elevation file (MATLAB 5 .mat" in summary
     assert "400 samples every 0.1 s" in summary

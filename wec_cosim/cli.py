@@ -71,9 +71,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_rao(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_rao_file
-    from orchestrator.scene import load_scene
-
     from orchestrator.scenario import apply_overrides
+    from orchestrator.scene import load_scene
 
     scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.form:
@@ -89,9 +88,8 @@ def cmd_rao(args: argparse.Namespace) -> int:
 
 def cmd_steady(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_steady_file
-    from orchestrator.scene import load_scene
-
     from orchestrator.scenario import apply_overrides
+    from orchestrator.scene import load_scene
 
     scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     out = _out(args.out)

@@ -78,11 +78,12 @@ def write_matlab_layout(hdb: HydroDatabase, path: Path, *, groups: bool, parts: 
             _matlab(am, "inf_freq", hdb.added_mass_inf[rows, :] / rho, "Infinite frequency added mass",
                     "kg-m^2 (rotation); kg (translation)")
             rd = hc.create_group("radiation_damping")
-            _matlab(rd, "all", np.transpose(hdb.radiation_damping[:, rows, :], (1, 2, 0)) / (rho * w), "Radiation damping",
-                    "N-s/m (translation); N-m-s/rad (rotation)")
+            _matlab(rd, "all", np.transpose(hdb.radiation_damping[:, rows, :], (1, 2, 0)) / (rho * w),
+                    "Radiation damping", "N-s/m (translation); N-m-s/rad (rotation)")
             if real is not None:
                 irf = rd.create_group("impulse_response_fun")
-                _matlab(irf, "K", np.transpose(real.kernel[:, rows, :], (1, 2, 0)) / rho, "Impulse response function", "")
+                _matlab(irf, "K", np.transpose(real.kernel[:, rows, :], (1, 2, 0)) / rho, "Impulse response function",
+                        "")
                 _matlab(irf, "t", real.t, "Time", "s")
                 _matlab(irf, "w", w, "Frequency", "rad/s")
                 ss = rd.create_group("state_space")
