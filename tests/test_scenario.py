@@ -89,6 +89,10 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t.replace("extrapolation = 2 ", 'master = "monolithic"\nextrapolation = 2 ')
      + '\n[multibody]\nformulation = "index3"\n', ["'monolithic' steps only the linear multibody model"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 3 "), ["simulation.extrapolation must be 0, 1 or 2"]),
+    (lambda t: t + '\n[mooring_lines]\ncoupled_bodies = ["float"]\n',
+     ["mooring_lines.coupled_bodies is set but mooring_lines.moordyn_file is not"]),
+    (lambda t: t + '\n[mooring_lines]\nmoordyn_file = "no_such_lines.txt"\ncoupled_bodies = ["float"]\n',
+     ["mooring_lines.moordyn_file", "no_such_lines.txt does not exist"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 2.0 "),
      ["simulation.extrapolation: expected an integer"]),
     (lambda t: t.replace("extrapolation = 2 ", "tolerance = -1e-9\n"), ["simulation.tolerance must be positive"]),

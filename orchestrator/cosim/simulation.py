@@ -566,6 +566,9 @@ def format_summary(result: RunResult) -> str:
         lines.append("energy account (J): " + ", ".join(
             f"{k.replace('_', ' ')} {e[k]:.6g}" for k in ("work_in", "pto", "radiated", "dissipated", "stored"))
             + f"; residual {e['residual']:.3g} J" + _residual_share(e))
+        if result.statistics.get("mooring_lines") == "moordyn":
+            lines.append("  (the MoorDyn lines' work on the bodies is not a term of this account: the residual "
+                         "includes it)")
     st = result.statistics
     if "mean_iterations" in st:
         lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "

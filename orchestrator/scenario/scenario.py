@@ -76,7 +76,7 @@ class Scenario:
         f = self.multibody.formulation
         if f != "auto":
             return f
-        simple = (not self.joints and not self.forces and not self.drivers
+        simple = (not self.joints and not self.forces and not self.drivers and not self.mooring_lines.moordyn_file
                   and not any(b.point_mass for b in self.bodies)
                   and all(not (p.joint or p.body2 or p.point or p.nonlinear) for p in self.ptos))
         return "linear" if simple else "index3"

@@ -347,7 +347,14 @@ class Scene:
 
         first_unit = {name: (JOINT_COORDINATE_UNITS[kind] or [("", "")])[0][0] for name, kind in kinds.items()}
         spec["forces"] = [dict(self._force_spec(e), rotational=first_unit.get(e.joint) == "rad") for e in s.forces]
-        if dynamic_lines and s.mooring_lines.model == "moordyn":
+        if s.mooring_lines.moordyn_file:
+            from .moordyn_file import dynamic_spec, linearised_spec
+
+            if dynamic_lines and s.mooring_lines.model == "moordyn":
+                dynamic_spec(s, spec)
+            else:
+                linearised_spec(spec, self.moordyn_linearised())
+        elif dynamic_lines and s.mooring_lines.model == "moordyn":
             self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
@@ -377,6 +384,15 @@ class Scene:
             d["stiffness"] = matrix(e.stiffness_matrix) or [0.0] * 36
             d["damping"] = matrix(e.damping_matrix)
         return d
+
+    def moordyn_linearised(self) -> dict:
+        """The MoorDyn input file's lines as a quasi-static stiffness and mean wrench per coupled body (computed once;
+        :func:`orchestrator.scene.moordyn_file.linearised`)."""
+        if not hasattr(self, "_moordyn_linearised"):
+            from .moordyn_file import linearised
+
+            self._moordyn_linearised = linearised(self.scenario)
+        return self._moordyn_linearised
 
     def _moordyn_spec(self, spec: dict) -> None:
         """Mark the catenary lines for MoorDyn and add its solver options."""
