@@ -91,9 +91,9 @@ def test_database_about_another_point_gives_the_rao_of_one_about_the_cg(box_file
     """Acceptance: Capytaine databases of one box computed about its cg and about the origin (0, 0, 0); the second,
     read with the body's cg given in the scenario, is moved to the cg and gives the same 6-DOF RAOs at two headings
     (within 0.5 %; the transformation is exact for the discretised BEM problem, so far closer in fact)."""
+    from orchestrator.reference.response_files import write_rao_file
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
-    from orchestrator.reference.response_files import write_rao_file
 
     tmp_path = box_files
     raos, logs = {}, []
