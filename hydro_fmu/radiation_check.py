@@ -15,8 +15,10 @@ for an exact, untruncated kernel. Two numbers compare K^ with the database's B(o
   (a deep heave plate radiates almost nothing; surge of a long barge at high frequency), so alone it does not say
   whether a run is at risk.
 * the **share of the inertia**: on each diagonal entry, max over the database's frequencies of
-  |K^_ii(omega) - K^_db,ii(omega)| / (omega (M_ii + A_inf,ii)), with M the structural mass or moment of inertia of
-  that degree of freedom: the error of the radiation force as a fraction of the inertia force of the same motion.
+  |K^_ii(omega) - K^_db,ii(omega)| / (omega (M_ii + A_inf,ii)), with M_ii + A_inf,ii the inertia a force on that
+  degree of freedom meets (its structural mass or moment of inertia with A_inf, and, for a body tied to others by
+  joints, theirs too: 1 / [P (P^T M P)^-1 P^T]_ii with P the null space of the constraints; ``Scene.radiation_check``):
+  the error of the radiation force as a fraction of the inertia force of the same motion.
   An error that acts like an added mass of this share changes a response by about the share away from resonance,
   and by up to share / (2 zeta) at a resonance of damping ratio zeta (the natural frequency moves by half the
   share; the response at the old peak drops by the square of that shift over 2 zeta). A run is at risk when the
@@ -81,7 +83,7 @@ def impedance_check(omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarr
     """The check of the diagonal entries for the convolution kernel the hydro model builds from these settings
     (``dt``, ``duration`` s; ``d_omega``, ``tail_exponent``, ``tail_correction`` as in
     :func:`hydro_fmu.radiation.kernel_table`); the tables are those of the scene's degrees of freedom: A, B (Nw, n, n),
-    A_inf (n, n); ``inertia`` (n,) the structural mass or moment of inertia of each (kg, kg m^2). The share of the
+    A_inf (n, n); ``inertia`` (n,) the inertia of each without its A_inf (kg, kg m^2; module docstring). The share of the
     inertia is taken over the database's frequencies in ``band`` (rad/s; the sea's frequencies: the last
     frequencies of a database, where B is cut, carry no waves in most runs); default all of them."""
     n = len(labels)

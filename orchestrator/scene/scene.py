@@ -185,9 +185,7 @@ class Scene:
 
         s, index = self.scenario, self.hydro_index()
         block = np.ix_(index, index)
-        bodies = {b.name: b for b in s.bodies}
-        inertia = [self.body_mass(bodies[name]) if d < 3 else self.inertia_matrix(bodies[name])[d - 3, d - 3]
-                   for name, d in self.hydro_coordinates]
+        inertia = self._apparent_inertia() - np.diag(self.hdb.added_mass_inf[block])
         correction = self.tail_correction()
         if correction is not None:
             correction = (correction[0], np.asarray(correction[1])[(slice(None),) + block])
@@ -198,16 +196,37 @@ class Scene:
                                dt or s.simulation.step, h.irf_duration, d_omega=h.irf_d_omega,
                                tail_exponent=h.damping_tail, tail_correction=correction, band=self._sea_band())
 
+    def _apparent_inertia(self) -> np.ndarray:
+        """The inertia a force on each hydrodynamic coordinate meets (kg, kg m^2), A_inf included:
+        1 / [P (P^T M P)^-1 P^T]_ii with M the mass matrix and P the null space of the joints' constraints (P = I
+        without joints); a body tied to others by joints moves them too."""
+        idx = self.hydro_index()
+        a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)]
+        if self.scenario.formulation == "linear":
+            bodies = {b.name: b for b in self.scenario.bodies}
+            mass = np.diag([self.body_mass(bodies[n]) if d < 3 else self.inertia_matrix(bodies[n])[d - 3, d - 3]
+                            for n, d in self.hydro_coordinates]) + a_inf
+            return 1.0 / np.diag(np.linalg.inv(mass))
+        from mbd_fmu.linearize import linearize
+        from mbd_fmu.spec import build_model
+
+        model, _ = build_model(self._mbd_spec_at_reference(), a_inf)
+        lin = linearize(model)
+        p = lin.null_space
+        compliance = p @ np.linalg.solve(p.T @ lin.mass @ p, p.T)
+        rows = [lin.coordinates.index(c) for c in self.hydro_coordinates]
+        return 1.0 / np.diag(compliance)[rows]
+
     def _sea_band(self) -> tuple[float, float] | None:
-        """The frequencies of the sea's components that carry 99.9 % of its variance (rad/s); None in still water."""
+        """The frequencies of the sea's components that carry 99 % of its variance (rad/s); None in still water."""
         waves = self.waves()
         if not len(waves.omega):
             return None
         energy = np.asarray(waves.amplitude, dtype=float) ** 2
         order = np.argsort(waves.omega)
         share = np.cumsum(energy[order]) / energy.sum()
-        lo = waves.omega[order][np.searchsorted(share, 0.0005)]
-        hi = waves.omega[order][min(len(order) - 1, np.searchsorted(share, 0.9995))]
+        lo = waves.omega[order][np.searchsorted(share, 0.005)]
+        hi = waves.omega[order][min(len(order) - 1, np.searchsorted(share, 0.995))]
         return float(lo), float(hi)
 
     def hydro_index(self) -> np.ndarray:
