@@ -83,8 +83,8 @@ def impedance_check(omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarr
     """The check of the diagonal entries for the convolution kernel the hydro model builds from these settings
     (``dt``, ``duration`` s; ``d_omega``, ``tail_exponent``, ``tail_correction`` as in
     :func:`hydro_fmu.radiation.kernel_table`); the tables are those of the scene's degrees of freedom: A, B (Nw, n, n),
-    A_inf (n, n); ``inertia`` (n,) the inertia of each without its A_inf (kg, kg m^2; module docstring). The share of the
-    inertia is taken over the database's frequencies in ``band`` (rad/s; the sea's frequencies: the last
+    A_inf (n, n); ``inertia`` (n,) the inertia of each without its A_inf (kg, kg m^2; module docstring). The share
+    of the inertia is taken over the database's frequencies in ``band`` (rad/s; the sea's frequencies: the last
     frequencies of a database, where B is cut, carry no waves in most runs); default all of them."""
     n = len(labels)
     diag = np.arange(n)

@@ -215,7 +215,8 @@ class Scene:
         p = lin.null_space
         compliance = p @ np.linalg.solve(p.T @ lin.mass @ p, p.T)
         rows = [lin.coordinates.index(c) for c in self.hydro_coordinates]
-        return 1.0 / np.diag(compliance)[rows]
+        with np.errstate(divide="ignore"):  # a coordinate the joints hold still to first order: infinite inertia
+            return 1.0 / np.abs(np.diag(compliance)[rows])
 
     def _sea_band(self) -> tuple[float, float] | None:
         """The frequencies of the sea's components that carry 99 % of its variance (rad/s); None in still water."""
