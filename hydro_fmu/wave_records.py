@@ -161,21 +161,8 @@ def _read_columns(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
         raise WaveDataError(
             f"{path}:{data_rows[0][0]}: {width} columns and no header row: keep two columns, time (s) and elevation "
             f"(m), or add a header row naming the columns t and eta")
-    values = []
-    for number, line in data_rows:
-        parts = split(line)
-        if len(parts) != width:
-            raise WaveDataError(f"{path}:{number}: {len(parts)} values, expected {width} (as in the "
-                                f"{'header' if header is not None else 'first row'})")
-        row = numbers(line)
-        if row is None:
-            raise WaveDataError(f"{path}:{number}: not a number in {line!r}")
-        if not all(math.isfinite(v) for v in row):
-            raise WaveDataError(f"{path}:{number}: non-finite value in {line!r}")
-        values.append(row)
-    if not values:
-        raise WaveDataError(f"{path}: no data rows after the header")
-    data = np.array(values)
+    data = _numeric_rows(path, data_rows, width, split,
+                         f" (as in the {'header' if header is not None else 'first row'})")
     form = (f"{'two' if width == 2 else width} columns, {_SEPARATORS[sep]}-separated"
             + (f", header {first!r}" if header is not None else "")
             + (f", {comments} comment line{'s' if comments != 1 else ''}" if comments else ""))
@@ -253,11 +240,18 @@ def _read_csv(path: Path) -> dict[str, np.ndarray]:
     if not rows:
         raise WaveDataError(f"{path}: the file is empty")
     header = [h.strip() for h in rows[0][1].split(",")]
+    data = _numeric_rows(path, rows[1:], len(header), lambda line: line.split(","), "")
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def _numeric_rows(path: Path, rows: list[tuple[int, str]], width: int, split, expected: str) -> np.ndarray:
+    """The data rows (line number, text) as an array (len(rows), width) of finite numbers; an error names the line
+    (``expected``: what the width comes from, for the message)."""
     values = []
-    for number, line in rows[1:]:
-        parts = line.split(",")
-        if len(parts) != len(header):
-            raise WaveDataError(f"{path}:{number}: {len(parts)} values, expected {len(header)}")
+    for number, line in rows:
+        parts = split(line)
+        if len(parts) != width:
+            raise WaveDataError(f"{path}:{number}: {len(parts)} values, expected {width}{expected}")
         try:
             row = [float(p) for p in parts]
         except ValueError:
@@ -267,8 +261,7 @@ def _read_csv(path: Path) -> dict[str, np.ndarray]:
         values.append(row)
     if not values:
         raise WaveDataError(f"{path}: no data rows after the header")
-    data = np.array(values)
-    return {name: data[:, i] for i, name in enumerate(header)}
+    return np.array(values)
 
 
 def _read_h5(path: Path, time_dataset: str, elevation_dataset: str) -> tuple[np.ndarray, np.ndarray]:
