@@ -129,7 +129,7 @@ def _read_columns(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
         if stripped:
             rows.append((number, stripped))
     if not rows:
-        raise WaveDataError(f"{path}: the file has no data rows")
+        raise WaveDataError(f"{path}: the file is empty (no data rows, only blank or comment lines)")
     first = rows[0][1]
     sep = "," if "," in first else ";" if ";" in first else None
     split = (lambda text: [p.strip() for p in text.split(sep)]) if sep else str.split

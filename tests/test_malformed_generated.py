@@ -297,7 +297,7 @@ def hand_cases() -> list[Case]:  # noqa: PLR0915 - one line per case
             ("non-numeric", "t,eta\na,b\n", "not a number"), ("empty", "", "empty"),
             ("NaN", "t,eta\n0,0\n1,nan\n2,0\n3,0\n", "non-finite"), ("header only", "t,eta\n", "no data rows"),
             ("backwards", "t,eta\n3,0\n2,0\n1,0\n0,0\n", "increase"),
-            ("wrong header", "time,elevation\n0,0\n", "header"),
+            ("wrong header", "a,b,c\n0,0,0\n", "does not name the time column"),
             ("ragged", "t,eta\n0,0\n1\n", "values, expected"),
             ("non-uniform", "t,eta\n0,0\n1,0\n3,0\n4,0\n", "uniform")):
         add(f"elevation file: {name}", {"s.toml": _elevation("csv"), "eta.csv": text},
