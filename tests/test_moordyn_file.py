@@ -130,3 +130,85 @@ def test_rm3_static_tensions_are_moordyns_static_solve(tmp_path) -> None:
     assert np.abs(tensions / static.end_tensions[None] - 1).max() < 0.01
     assert np.abs(forces[-1] - static.forces).max() < 0.01 * np.abs(static.forces).max()
     assert np.abs(spar).max() < 0.01  # m, rad
+
+
+def _surge_zero_crossing_period_and_decrement(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
+    """Mean period between zero up-crossings (linear interpolation) and mean logarithmic decrement of the positive
+    peaks of a decay record."""
+    i = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    up = t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+    j = np.flatnonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:])) + 1
+    p = x[j][x[j] > 0]
+    return float(np.mean(np.diff(up))), float(np.mean(np.log(p[:-1] / p[1:])))
+
+
+def _linearised_surge_period(scene) -> float:  # noqa: ANN001
+    """Undamped period of the slowest mode of the scene linearised at rest (surge on the soft buoyed legs): where
+    det Re Z(omega) changes sign first, scanned from 0.01 rad/s."""
+    from orchestrator.reference.frequency_domain import linear_model
+
+    omega = np.arange(0.01, 0.2, 1e-4)
+    det = np.array([np.linalg.det(z.real) for z in linear_model(scene, omega).impedance])
+    i = int(np.flatnonzero(np.sign(det[:-1]) != np.sign(det[1:]))[0])
+    return 2 * math.pi / (omega[i] - det[i] * (omega[i + 1] - omega[i]) / (det[i + 1] - det[i]))
+
+
+@pytest.mark.slow
+@pytest.mark.acceptance
+def test_rm3_decay_with_moordyn_against_the_quasi_static_lines(tmp_path) -> None:
+    """Acceptance: the bundled surge decay from 5 m (600 s), once with MoorDyn's line dynamics and once with the
+    same file's lines as their linearised quasi-static stiffness. The quasi-static run's period is the linearised
+    scene's undamped surge period within 1 % (radiation damps it little); MoorDyn's is within 3 % of it (the lines'
+    dynamics and the catenary's stiffening at 5 m are what the quasi-static model leaves out), and it decays faster:
+    the drag on the chains dissipates energy that the quasi-static lines cannot."""
+    from orchestrator.cosim.simulation import run_scenario
+    from orchestrator.scene import load_scene
+
+    measured = {}
+    for model in ("quasi_static", "moordyn"):
+        s = apply_overrides(load_scenario(_rm3(tmp_path)), [f"mooring_lines.model={model}"])
+        run_scenario(s, tmp_path / f"{model}.h5", in_process=True, progress=False, log=None)
+        with h5py.File(tmp_path / f"{model}.h5", "r", swmr=True) as out:
+            t, x = out["time"][()], out["bodies/spar/displacement"][:, 0]
+        assert t[-1] == pytest.approx(600.0) and np.all(np.isfinite(x))
+        measured[model] = _surge_zero_crossing_period_and_decrement(t, x)
+    linear = _linearised_surge_period(load_scene(apply_overrides(load_scenario(_rm3(tmp_path)),
+                                                                 ["mooring_lines.model=quasi_static"]), log=None))
+    (qs_period, qs_decrement), (md_period, md_decrement) = measured["quasi_static"], measured["moordyn"]
+    assert qs_period == pytest.approx(linear, rel=0.01)
+    assert md_period == pytest.approx(qs_period, rel=0.03)
+    assert md_decrement > 2 * max(qs_decrement, 0.0)
+
+
+@pytest.mark.slow
+@pytest.mark.acceptance
+def test_rm3_irregular_sea_at_the_bundled_step(tmp_path) -> None:
+    """Acceptance: the bundled irregular sea (Pierson-Moskowitz Hs 2.5 m, Tp 8 s) at the bundled 0.1 s step with the
+    MoorDyn file's lines, 300 s: every line end stays in tension, and the bodies' heave follows the exact linear
+    response of the same realised sea (the scene with the lines' linearised stiffness, which barely enters heave)
+    to within 10 % RMS of the response, after the ramp and the radiation memory."""
+    from orchestrator.cosim.simulation import run_scenario
+    from orchestrator.scene import load_scene
+    from wec_cosim.benchreport.errors import linear_irregular_response
+
+    irregular = (SCENARIOS / "rm3_moordyn_irregular.toml").read_text().replace(
+        'moordyn_file = "data/rm3/rm3_moordyn.txt"', f'moordyn_file = "{RM3_FILE.as_posix()}"').replace(
+        'database = "data/rm3/rm3.h5"', f'database = "{(SCENARIOS / "data/rm3/rm3.h5").as_posix()}"')
+    (tmp_path / "irregular.toml").write_text(irregular)
+    s = apply_overrides(load_scenario(tmp_path / "irregular.toml"), ["simulation.duration=300"])
+    assert s.simulation.step == 0.1
+    run_scenario(s, tmp_path / "irregular.h5", in_process=True, progress=False, log=None)
+    f = read_moordyn_file(RM3_FILE)
+    with h5py.File(tmp_path / "irregular.h5", "r", swmr=True) as out:
+        t = out["time"][()]
+        tensions = np.stack([out[f"mooring/line{i}/tension"][()] for i in f.line_ids], axis=1)
+        heave = {b: out[f"bodies/{b}/displacement"][:, 2] for b in ("float", "spar")}
+    assert t[-1] == pytest.approx(300.0) and np.all(np.isfinite(tensions)) and tensions.min() > 0
+    linear = load_scene(apply_overrides(load_scenario(tmp_path / "irregular.toml"),
+                                        ["simulation.duration=300", "mooring_lines.model=quasi_static"]), log=None)
+    mask = t >= s.ramp_time + s.hydro.irf_duration
+    coordinates, exact = linear_irregular_response(linear, t[mask])
+    for body, x in heave.items():
+        j = next(k for k, (b, d) in enumerate(coordinates) if b == body and d == 2)
+        deviation = np.sqrt(np.mean((x[mask] - exact[:, j]) ** 2)) / np.sqrt(np.mean(exact[:, j] ** 2))
+        assert deviation < 0.10, (body, deviation)
