@@ -186,7 +186,9 @@ def test_rm3_irregular_sea_at_the_bundled_step(tmp_path) -> None:
     """Acceptance: the bundled irregular sea (Pierson-Moskowitz Hs 2.5 m, Tp 8 s) at the bundled 0.1 s step with the
     MoorDyn file's lines, 300 s: every line end stays in tension, and the bodies' heave follows the exact linear
     response of the same realised sea (the scene with the lines' linearised stiffness, which barely enters heave)
-    to within 10 % RMS of the response, after the ramp and the radiation memory."""
+    to within 10 % RMS of the response, after the ramp and the radiation memory (measured over 600 s: float 0.6 %,
+    spar 2.6 %; surge and pitch carry the free oscillation of the slow modes that the start excites, which the
+    steady-state linear answer does not have, with the quasi-static lines as much: docs/benchmark_devices.md)."""
     from orchestrator.cosim.simulation import run_scenario
     from orchestrator.scene import load_scene
     from wec_cosim.benchreport.errors import linear_irregular_response
