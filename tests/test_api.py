@@ -56,11 +56,11 @@ def test_a_value_set_in_python_is_refused_with_the_files_check_worded_for_python
 
 def test_checks_across_keys_name_what_was_changed_in_python() -> None:
     s = wc.load_scenario(SCENARIOS / "cylinder_regular.toml")
-    s.simulation.step = 0.3  # 200 s is not a whole number of 0.3 s steps
+    s.simulation.step = 300.0  # one step longer than the 200 s run
     with pytest.raises(ScenarioError) as caught:
         wc.check(s)
     text = str(caught.value)
-    assert "is not a whole number of steps of 0.3 s" in text
+    assert "simulation.step (300.0 s) is longer than the duration (200.0 s)" in text
     assert text.endswith(f"(the scenario of {SCENARIOS / 'cylinder_regular.toml'}, changed in Python "
                          "(simulation.step))")
     assert not text.startswith(str(SCENARIOS))  # the file itself is fine
