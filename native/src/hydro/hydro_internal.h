@@ -234,6 +234,7 @@ int hydro_state_write(const wec_hydro *h, wec_writer *w);
 int hydro_state_read(wec_hydro *h, wec_reader *r, char *msg);
 
 /* model.c */
+static inline int hydro_live(const wec_hydro *h) { return h != NULL && h->magic == HYDRO_MAGIC; }
 int hydro_instance_init(wec_hydro *h, hydro_shared *s);
 void hydro_instance_free(wec_hydro *h);
 

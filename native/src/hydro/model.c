@@ -234,12 +234,10 @@ wec_hydro *wec_hydro_create(const void *data, size_t size)
     return h;
 }
 
-static int live(const wec_hydro *h) { return h != NULL && h->magic == HYDRO_MAGIC; }
-
 wec_hydro *wec_hydro_clone(const wec_hydro *model)
 {
     create_error[0] = '\0';
-    if (!live(model)) {
+    if (!hydro_live(model)) {
         wec_fail(create_error, HYDRO_MSG_SIZE, WEC_ERR_HANDLE, "wec_hydro_clone: not a live model handle");
         return NULL;
     }
@@ -258,7 +256,7 @@ wec_hydro *wec_hydro_clone(const wec_hydro *model)
 
 void wec_hydro_free(wec_hydro *model)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return;
     hydro_shared *s = model->shared;
     hydro_instance_free(model);
@@ -270,14 +268,14 @@ void wec_hydro_free(wec_hydro *model)
 
 const char *wec_hydro_last_error(const wec_hydro *model)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return "not a live wec_hydro handle (NULL, freed or foreign)";
     return model->error;
 }
 
 int wec_hydro_dofs(wec_hydro *model, size_t *n)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     if (n == NULL)
         return wec_fail(model->error, HYDRO_MSG_SIZE, WEC_ERR_ARGUMENT, "wec_hydro_dofs: n is NULL");
@@ -287,7 +285,7 @@ int wec_hydro_dofs(wec_hydro *model, size_t *n)
 
 int wec_hydro_added_mass_inf(wec_hydro *model, double *a, size_t size)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     const hydro_shared *s = model->shared;
     if (s->added_mass_inf == NULL)
@@ -302,7 +300,7 @@ int wec_hydro_added_mass_inf(wec_hydro *model, double *a, size_t size)
 
 int wec_hydro_copy_state(wec_hydro *to, wec_hydro *from)
 {
-    if (!live(to) || !live(from))
+    if (!hydro_live(to) || !hydro_live(from))
         return WEC_ERR_HANDLE;
     if (to->shared != from->shared && to->shared->hash != from->shared->hash)
         return wec_fail(to->error, HYDRO_MSG_SIZE, WEC_ERR_STATE, "wec_hydro_copy_state: the two models were made "

@@ -4,8 +4,6 @@
 
 #include "hydro_internal.h"
 
-static int live(const wec_hydro *h) { return h != NULL && h->magic == HYDRO_MAGIC; }
-
 static int check_inputs(wec_hydro *h, const char *call, double t, const double *x, int need_x, const double *v,
                         size_t n)
 {
@@ -33,7 +31,7 @@ static int point(wec_hydro *h, double t, const double *x, const double *v)
 
 int wec_hydro_set_start_time(wec_hydro *model, double start_time)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     if (!isfinite(start_time))
         return wec_fail(model->error, HYDRO_MSG_SIZE, WEC_ERR_ARGUMENT, "wec_hydro_set_start_time: %g is not finite",
@@ -45,7 +43,7 @@ int wec_hydro_set_start_time(wec_hydro *model, double start_time)
 int wec_hydro_outputs(wec_hydro *model, double t, const double *x, const double *v, size_t n, const int64_t *rows,
                       size_t n_rows, double *forces, double *power, double *work, double *elevation)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     int st = check_inputs(model, "wec_hydro_outputs", t, x, 1, v, n);
     if (st != WEC_OK)
@@ -77,7 +75,7 @@ int wec_hydro_outputs(wec_hydro *model, double t, const double *x, const double 
 
 int wec_hydro_elevation(wec_hydro *model, double t, double *elevation)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     if (!isfinite(t) || elevation == NULL)
         return wec_fail(model->error, HYDRO_MSG_SIZE, WEC_ERR_ARGUMENT, "wec_hydro_elevation: the time must be finite "
@@ -90,7 +88,7 @@ int wec_hydro_linearise(wec_hydro *model, double t, const double *x, const doubl
                         const unsigned char *stiffness_mask, const unsigned char *damping_mask, double *f0,
                         double *f0_rate, double *df_dx, double *df_dv)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     int st = check_inputs(model, "wec_hydro_linearise", t, x, 1, v, n);
     if (st != WEC_OK)
@@ -131,7 +129,7 @@ static int advance(wec_hydro *h, double t, double step, const double *v)
 
 int wec_hydro_advance(wec_hydro *model, double t, double h, const double *v, size_t n)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     int st = check_inputs(model, "wec_hydro_advance", t, NULL, 0, v, n);
     return st != WEC_OK ? st : advance(model, t, h, v);
@@ -139,7 +137,7 @@ int wec_hydro_advance(wec_hydro *model, double t, double h, const double *v, siz
 
 int wec_hydro_do_step(wec_hydro *model, double t, double h, const double *x, const double *v, size_t n)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     int st = check_inputs(model, "wec_hydro_do_step", t, x, 1, v, n);
     if (st != WEC_OK || (st = point(model, t, x, v)) != WEC_OK)
@@ -154,7 +152,7 @@ int wec_hydro_do_step(wec_hydro *model, double t, double h, const double *x, con
 
 int wec_hydro_state_size(wec_hydro *model, size_t *size)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     if (size == NULL)
         return wec_fail(model->error, HYDRO_MSG_SIZE, WEC_ERR_ARGUMENT, "wec_hydro_state_size: size is NULL");
@@ -164,7 +162,7 @@ int wec_hydro_state_size(wec_hydro *model, size_t *size)
 
 int wec_hydro_state_save(wec_hydro *model, void *buffer, size_t size)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     size_t needed = hydro_state_size(model);
     if (buffer == NULL || size != needed)
@@ -178,7 +176,7 @@ int wec_hydro_state_save(wec_hydro *model, void *buffer, size_t size)
 
 int wec_hydro_state_load(wec_hydro *model, const void *buffer, size_t size)
 {
-    if (!live(model))
+    if (!hydro_live(model))
         return WEC_ERR_HANDLE;
     if (buffer == NULL)
         return wec_fail(model->error, HYDRO_MSG_SIZE, WEC_ERR_ARGUMENT, "wec_hydro_state_load: buffer is NULL");
