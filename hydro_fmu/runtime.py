@@ -56,14 +56,6 @@ def _address(a: np.ndarray) -> int:
     return a.__array_interface__["data"][0]
 
 
-def _vector(a: np.ndarray, n: int, name: str) -> np.ndarray:
-    if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.flags.c_contiguous):
-        a = np.ascontiguousarray(a, dtype=np.float64)
-    if a.shape != (n,):
-        raise ValueError(f"hydro runtime: {name} has shape {a.shape}, expected ({n},)")
-    return a
-
-
 class HydroRuntime:
     """A runtime model made from runtime input ``data`` (bytes); :class:`fmu_base.native.RuntimeCallError` with the
     runtime's message if the data are refused."""
@@ -85,6 +77,27 @@ class HydroRuntime:
         self._work = np.zeros(COMPONENTS)
         self._eta = np.zeros(1)
         self._addresses = (_address(self._block), _address(self._power), _address(self._work), _address(self._eta))
+        self._slots: dict[str, tuple[np.ndarray, tuple[int, ...], int]] = {}
+
+    def _pointer(self, key: str, a: np.ndarray, shape: tuple[int, ...], output: bool = False,
+                 dtype: type = np.float64) -> tuple[int, np.ndarray]:
+        """(address, array) of the argument ``key``: the same array object as the last call's costs a dictionary
+        look-up (FMU value stores and model buffers are passed at every point; taking an address from numpy costs
+        microseconds); another is checked (shape, dtype, C order: inputs converted, outputs refused) and kept."""
+        slot = self._slots.get(key)
+        if slot is not None and slot[0] is a and a.shape == shape:
+            return slot[2], a
+        if not (isinstance(a, np.ndarray) and a.dtype == dtype and a.flags.c_contiguous and a.shape == shape):
+            if output:
+                raise ValueError(f"hydro runtime: {key} must be a C-contiguous {np.dtype(dtype)} array of shape "
+                                 f"{shape}, not {getattr(a, 'dtype', type(a).__name__)} {np.shape(a)}")
+            converted = np.ascontiguousarray(a, dtype=dtype)
+            if converted.shape != shape:
+                raise ValueError(f"hydro runtime: {key} has shape {converted.shape}, expected {shape}")
+            return _address(converted), converted  # a temporary: not kept
+        address = _address(a)
+        self._slots[key] = (a, shape, address)
+        return address, a
 
     def __del__(self) -> None:
         handle, self._handle = getattr(self, "_handle", None), None
@@ -149,13 +162,11 @@ class HydroRuntime:
         """The force rows (5, n) at time ``t`` for ``x``, ``v`` into ``block`` (default: :attr:`block`); returns the
         elevation at the origin (m). Powers and work of the point are then in :attr:`power` and :attr:`work`."""
         n = self.n
-        x, v = _vector(x, n, "x"), _vector(v, n, "v")
-        target = self._block if block is None else block
-        if target.shape != (ROWS, n) or target.dtype != np.float64 or not target.flags.c_contiguous:
-            raise ValueError(f"hydro runtime: the force block must be a C-contiguous float64 array ({ROWS}, {n})")
+        px, x = self._pointer("x", x, (n,))
+        pv, v = self._pointer("v", v, (n,))
+        pb, _ = self._pointer("block", self._block if block is None else block, (ROWS, n), output=True)
         _, power, work, eta = self._addresses
-        self._check(self._lib.wec_hydro_outputs(self._handle, t, _address(x), _address(v), n, None, ROWS,
-                                                _address(target), power, work, eta))
+        self._check(self._lib.wec_hydro_outputs(self._handle, t, px, pv, n, None, ROWS, pb, power, work, eta))
         return float(self._eta[0])
 
     def outputs(self, t: float, x: np.ndarray, v: np.ndarray, rows: np.ndarray, out: np.ndarray, power: np.ndarray,
@@ -163,15 +174,14 @@ class HydroRuntime:
         """The force rows ``rows`` (int64, values 0..4) into the rows of ``out`` (len(rows), n), the power and work of
         each component into ``power`` and ``work`` (4 each); returns the elevation at the origin (m). One call."""
         n = self.n
-        x, v = _vector(x, n, "x"), _vector(v, n, "v")
-        for a, shape in ((out, (len(rows), n)), (power, (COMPONENTS,)), (work, (COMPONENTS,))):
-            if a.shape != shape or a.dtype != np.float64 or not a.flags.c_contiguous:
-                raise ValueError(f"hydro runtime: an output array is not a C-contiguous float64 array of shape {shape}")
-        if rows.dtype != np.int64 or not rows.flags.c_contiguous:
-            rows = np.ascontiguousarray(rows, dtype=np.int64)
-        eta = self._addresses[3]
-        self._check(self._lib.wec_hydro_outputs(self._handle, t, _address(x), _address(v), n, _address(rows),
-                                                len(rows), _address(out), _address(power), _address(work), eta))
+        px, x = self._pointer("x", x, (n,))
+        pv, v = self._pointer("v", v, (n,))
+        pr, rows = self._pointer("rows", rows, (len(rows),), dtype=np.int64)
+        po, _ = self._pointer("out", out, (len(rows), n), output=True)
+        pp, _ = self._pointer("power", power, (COMPONENTS,), output=True)
+        pw, _ = self._pointer("work", work, (COMPONENTS,), output=True)
+        self._check(self._lib.wec_hydro_outputs(self._handle, t, px, pv, n, pr, len(rows), po, pp, pw,
+                                                self._addresses[3]))
         return float(self._eta[0])
 
     @property
@@ -196,7 +206,8 @@ class HydroRuntime:
         """(F0, F0_rate, dF_dx, dF_dv) about (t, x, v) with the matrices restricted to the masks (n, n bool; None:
         every entry)."""
         n = self.n
-        x, v = _vector(x, n, "x"), _vector(v, n, "v")
+        px, x = self._pointer("x", x, (n,))
+        pv, v = self._pointer("v", v, (n,))
         masks = []
         for mask in (stiffness_mask, damping_mask):
             if mask is None:
@@ -208,18 +219,19 @@ class HydroRuntime:
             masks.append(mask)
         f0, rate, dfdx, dfdv = np.zeros(n), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
         self._check(self._lib.wec_hydro_linearise(
-            self._handle, float(t), _address(x), _address(v), n, None if masks[0] is None else _address(masks[0]),
+            self._handle, float(t), px, pv, n, None if masks[0] is None else _address(masks[0]),
             None if masks[1] is None else _address(masks[1]), _address(f0), _address(rate), _address(dfdx),
             _address(dfdv)))
         return f0, rate, dfdx, dfdv
 
     def advance(self, t: float, h: float, v: np.ndarray) -> None:
         """Commit ``v`` at the current point ``t`` to the radiation memory and move on by ``h`` (s)."""
-        v = _vector(v, self.n, "v")
-        self._check(self._lib.wec_hydro_advance(self._handle, float(t), float(h), _address(v), self.n))
+        pv, v = self._pointer("v", v, (self.n,))
+        self._check(self._lib.wec_hydro_advance(self._handle, float(t), float(h), pv, self.n))
 
     def do_step(self, t: float, h: float, x: np.ndarray, v: np.ndarray) -> None:
         """The FMU's step: the work at the point ``t`` committed, then :meth:`advance`."""
         n = self.n
-        x, v = _vector(x, n, "x"), _vector(v, n, "v")
-        self._check(self._lib.wec_hydro_do_step(self._handle, float(t), float(h), _address(x), _address(v), n))
+        px, x = self._pointer("x", x, (n,))
+        pv, v = self._pointer("v", v, (n,))
+        self._check(self._lib.wec_hydro_do_step(self._handle, float(t), float(h), px, pv, n))

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/dot.h"
 #include "hydro_internal.h"
 
 #define MAX_BLOCK_POINTS 1024
@@ -115,14 +116,6 @@ static void write_pending(conv_memory *c, const hydro_shared *s, const double *v
     }
 }
 
-static double dot(const double *a, const double *b, size_t len)
-{
-    double s = 0.0;
-    for (size_t f = 0; f < len; f++)
-        s += a[f] * b[f];
-    return s;
-}
-
 /* the history sums of a block: history[k] for the point (k + 1) stride grid steps after its start */
 static void block_history(const hydro_shared *s, const double *window, size_t stride, size_t count, double *history)
 {
@@ -133,23 +126,16 @@ static void block_history(const hydro_shared *s, const double *window, size_t st
         for (; k + 4 <= count; k += 4) {
             size_t first = (k + 1) * step, common = size - first - 3 * step;
             const double *w0 = window + first, *w1 = w0 + step, *w2 = w1 + step, *w3 = w2 + step;
-            double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-            for (size_t f = 0; f < common; f++) {
-                double x = row[f];
-                s0 += x * w0[f];
-                s1 += x * w1[f];
-                s2 += x * w2[f];
-                s3 += x * w3[f];
-            }
-            double sums[4] = {s0, s1, s2, s3};
+            double sums[4];
+            wec_dot4(row, w0, w1, w2, w3, common, sums);
             for (size_t j = 0; j < 4; j++) {
                 size_t shift = first + j * step;
-                history[(k + j) * n + i] = sums[j] + dot(row + common, window + common + shift, size - shift - common);
+                history[(k + j) * n + i] = sums[j] + wec_dot(row + common, window + common + shift, size - shift - common);
             }
         }
         for (; k < count; k++) {
             size_t shift = (k + 1) * step;
-            history[k * n + i] = dot(row, window + shift, size - shift);
+            history[k * n + i] = wec_dot(row, window + shift, size - shift);
         }
     }
 }
@@ -173,7 +159,7 @@ void conv_memory_force(conv_memory *c, const hydro_shared *s, const double *v, d
             c->block[0] = 0;
             const double *window = c->ring + (size_t)((cur + 1) % (int64_t)m) * n;
             for (size_t i = 0; i < n; i++)
-                mu[i] = dot(s->weights + i * size, window, size);
+                mu[i] = wec_dot(s->weights + i * size, window, size);
             return;
         }
         block_history(s, c->ring + (size_t)(steps % (int64_t)m) * n, (size_t)gap, (size_t)count, c->history);
@@ -187,7 +173,7 @@ void conv_memory_force(conv_memory *c, const hydro_shared *s, const double *v, d
     const double *window = c->ring + (size_t)((cur + 1) % (int64_t)m) * n;
     size_t low = (m - (size_t)b) * n;
     for (size_t i = 0; i < n; i++)
-        mu[i] = c->history[(size_t)k * n + i] + dot(s->weights + i * size + low, window + low, size - low);
+        mu[i] = c->history[(size_t)k * n + i] + wec_dot(s->weights + i * size + low, window + low, size - low);
 }
 
 void conv_memory_damping(const conv_memory *c, const hydro_shared *s, double *d)
