@@ -7,8 +7,9 @@ pass; ``HydroRuntime.outputs``), then the step (work committed, velocity into th
 ``HydroModel.advance``; ``HydroRuntime.do_step``). A second figure adds the linearised interface (``HydroModel.affine``,
 numpy; ``HydroRuntime.linearise``), which the FMU computes only when a host reads it. Runs of the two paths
 alternate in one process (after a warm-up: numba compiled, caches filled); microseconds per macro step, the median
-over the runs and the ratio numba / runtime. In process, without FMI. Not a timed assertion anywhere: the machine
-has two cores shared with other work (load in the header and footer).
+over the runs and the ratio numba / runtime, of wall time and of the process's CPU time (less sensitive to the other
+work on the machine; OpenBLAS is held to one thread so that its idle helpers do not count). In process, without FMI.
+Not a timed assertion anywhere: the machine has two cores shared with other work (load in the header and footer).
 
     python benchmarks/bench_hydro_runtime.py --out benchmarks/results/hydro_runtime.txt
 """
@@ -16,18 +17,21 @@ has two cores shared with other work (load in the header and footer).
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import subprocess
 import time
 
-import numpy as np
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before numpy: helper threads would count as CPU time
+
+import numpy as np  # noqa: E402
 from common import ROOT, load, report_header, write_report
 
-from hydro_fmu.runtime import HydroRuntime
-from hydro_fmu.runtime_input import runtime_input
-from hydro_fmu.work import WorkAccount
-from orchestrator.scenario import load_scenario
-from orchestrator.scene import load_scene
+from hydro_fmu.runtime import HydroRuntime  # noqa: E402
+from hydro_fmu.runtime_input import runtime_input  # noqa: E402
+from hydro_fmu.work import WorkAccount  # noqa: E402
+from orchestrator.scenario import load_scenario  # noqa: E402
+from orchestrator.scene import load_scene  # noqa: E402
 
 SCENES = (("cylinder (regular)", "cylinder_regular", 2000), ("hinge barge", "hinge_barge", 1000),
           ("F3OF DT3", "f3of_dt3", 600), ("9N9LA", "array_9n9la", 200))
@@ -73,24 +77,24 @@ class Runtime:
         self.runtime.do_step(t, h, x, v)
 
 
-def measure(scene, steps: int, runs: int, linearised: bool) -> dict[str, list[float]]:
-    """Microseconds per macro step of each path, one value per run (runs alternate between the paths)."""
+def measure(scene, steps: int, runs: int, linearised: bool) -> dict[str, list[tuple[float, float]]]:
+    """(wall, CPU) microseconds per macro step of each path, one pair per run (runs alternate between the paths)."""
     h = scene.scenario.simulation.step
     pattern = scene.coupling_pattern()
-    times: dict[str, list[float]] = {"numba": [], "runtime": []}
+    times: dict[str, list[tuple[float, float]]] = {"numba": [], "runtime": []}
     inputs = histories(scene.hydro_model(dt=h).index, h, steps * (runs + 1))
     paths = {"numba": Numba(scene.hydro_model(dt=h), pattern), "runtime": Runtime(scene.hydro_model(dt=h), pattern)}
-    for name, path in paths.items():  # warm-up: numba compiled or loaded, first blocks, caches
+    for path in paths.values():  # warm-up: numba compiled or loaded, first blocks, caches
         for t, x, v in inputs[:steps]:
             path.point(t, h, x, v, linearised)
     for r in range(runs):
         chunk = inputs[(r + 1) * steps:(r + 2) * steps]
         for name in (("numba", "runtime") if r % 2 == 0 else ("runtime", "numba")):
             path = paths[name]
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             for t, x, v in chunk:
                 path.point(t, h, x, v, linearised)
-            times[name].append((time.perf_counter() - start) / steps * 1e6)
+            times[name].append(((time.perf_counter() - start) / steps * 1e6, (time.process_time() - cpu) / steps * 1e6))
     return times
 
 
@@ -104,24 +108,26 @@ def main() -> None:
                       "unknown")
     lines = [*report_header("bench_hydro_runtime.py"), f"# lscpu model name: {model_line}",
              f"# uptime at start: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}",
-             f"# microseconds per macro step, median over {args.runs} alternating runs (min .. max); in process, "
-             "no FMI", ""]
-    header = (f"{'scene':20s} {'n':>3s} {'step s':>7s} {'steps':>6s}  {'part':24s} {'numba us':>22s} "
-              f"{'runtime us':>22s} {'numba/runtime':>13s}")
+             f"# microseconds per macro step, median over {args.runs} alternating runs (min .. max), wall and CPU "
+             "time of the process; in process, no FMI", ""]
+    header = (f"{'scene':20s} {'n':>3s} {'step s':>7s} {'steps':>6s}  {'part':28s} {'numba wall':>24s} "
+              f"{'runtime wall':>24s} {'ratio':>6s} {'numba CPU':>9s} {'runtime CPU':>11s} {'ratio':>6s}")
     lines.append(header)
     for label, name, steps in SCENES:
         scene = load_scene(load_scenario(ROOT / "scenarios" / f"{name}.toml"), log=None)
         for linearised in (False, True):
             times = measure(scene, steps, args.runs, linearised)
-            medians = {k: statistics.median(v) for k, v in times.items()}
+            wall = {k: [w for w, _ in v] for k, v in times.items()}
+            cpu = {k: statistics.median(c for _, c in v) for k, v in times.items()}
             part = "outputs + step" + (" + linearised" if linearised else "")
 
             def cell(v: list[float]) -> str:
                 return f"{statistics.median(v):8.1f} ({min(v):.1f}..{max(v):.1f})"
 
             row = (f"{label:20s} {len(scene.hydro_index()):3d} {scene.scenario.simulation.step:7.3f} {steps:6d}  "
-                   f"{part:24s} {cell(times['numba']):>22s} {cell(times['runtime']):>22s} "
-                   f"{medians['numba'] / medians['runtime']:13.2f}")
+                   f"{part:28s} {cell(wall['numba']):>24s} {cell(wall['runtime']):>24s} "
+                   f"{statistics.median(wall['numba']) / statistics.median(wall['runtime']):6.2f} "
+                   f"{cpu['numba']:9.1f} {cpu['runtime']:11.1f} {cpu['numba'] / cpu['runtime']:6.2f}")
             lines.append(row)
             print(row, flush=True)
     lines += ["", f"# uptime at the end: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}",

@@ -34,6 +34,7 @@ SIGNATURES = {
     "wec_hydro_elevation": (_I, [_P, _D, _P]),
     "wec_hydro_linearise": (_I, [_P, _D, _P, _P, _S, _P, _P, _P, _P, _P, _P]),
     "wec_hydro_advance": (_I, [_P, _D, _D, _P, _S]),
+    "wec_hydro_commit_work": (_I, [_P, _D, _P, _P, _S]),
     "wec_hydro_do_step": (_I, [_P, _D, _D, _P, _P, _S]),
     "wec_hydro_state_size": (_I, [_P, ctypes.POINTER(_S)]),
     "wec_hydro_state_save": (_I, [_P, _P, _S]),
@@ -78,6 +79,8 @@ class HydroRuntime:
         self._eta = np.zeros(1)
         self._addresses = (_address(self._block), _address(self._power), _address(self._work), _address(self._eta))
         self._slots: dict[str, tuple[np.ndarray, tuple[int, ...], int]] = {}
+        self._last_outputs: tuple | None = None
+        self._last_inputs: tuple | None = None
 
     def _pointer(self, key: str, a: np.ndarray, shape: tuple[int, ...], output: bool = False,
                  dtype: type = np.float64) -> tuple[int, np.ndarray]:
@@ -98,6 +101,19 @@ class HydroRuntime:
         address = _address(a)
         self._slots[key] = (a, shape, address)
         return address, a
+
+    def _inputs(self, x: np.ndarray, v: np.ndarray) -> tuple[int, int]:
+        """Addresses of the inputs ``x``, ``v``; the same two arrays as the last call cost two identity checks (only
+        arrays used as they are are remembered: a converted copy is made again at every call)."""
+        last = self._last_inputs
+        if last is not None and x is last[0] and v is last[1]:
+            return last[2], last[3]
+        n = self.n
+        px, x_used = self._pointer("x", x, (n,))
+        pv, v_used = self._pointer("v", v, (n,))
+        self._last_inputs = (x, v, px, pv) if (x_used is x and v_used is v) else None
+        self._keep = (x_used, v_used)  # alive until the call is made
+        return px, pv
 
     def __del__(self) -> None:
         handle, self._handle = getattr(self, "_handle", None), None
@@ -162,8 +178,7 @@ class HydroRuntime:
         """The force rows (5, n) at time ``t`` for ``x``, ``v`` into ``block`` (default: :attr:`block`); returns the
         elevation at the origin (m). Powers and work of the point are then in :attr:`power` and :attr:`work`."""
         n = self.n
-        px, x = self._pointer("x", x, (n,))
-        pv, v = self._pointer("v", v, (n,))
+        px, pv = self._inputs(x, v)
         pb, _ = self._pointer("block", self._block if block is None else block, (ROWS, n), output=True)
         _, power, work, eta = self._addresses
         self._check(self._lib.wec_hydro_outputs(self._handle, t, px, pv, n, None, ROWS, pb, power, work, eta))
@@ -172,17 +187,26 @@ class HydroRuntime:
     def outputs(self, t: float, x: np.ndarray, v: np.ndarray, rows: np.ndarray, out: np.ndarray, power: np.ndarray,
                 work: np.ndarray) -> float:
         """The force rows ``rows`` (int64, values 0..4) into the rows of ``out`` (len(rows), n), the power and work of
-        each component into ``power`` and ``work`` (4 each); returns the elevation at the origin (m). One call."""
-        n = self.n
-        px, x = self._pointer("x", x, (n,))
-        pv, v = self._pointer("v", v, (n,))
-        pr, rows = self._pointer("rows", rows, (len(rows),), dtype=np.int64)
-        po, _ = self._pointer("out", out, (len(rows), n), output=True)
-        pp, _ = self._pointer("power", power, (COMPONENTS,), output=True)
-        pw, _ = self._pointer("work", work, (COMPONENTS,), output=True)
-        self._check(self._lib.wec_hydro_outputs(self._handle, t, px, pv, n, pr, len(rows), po, pp, pw,
-                                                self._addresses[3]))
-        return float(self._eta[0])
+        each component into ``power`` and ``work`` (4 each); returns the elevation at the origin (m). One call; the
+        same six arrays as the last call (an FMU's value store) cost one identity check each."""
+        last = self._last_outputs
+        if last is not None and x is last[0] and v is last[1] and rows is last[2] and out is last[3] \
+                and power is last[4] and work is last[5]:
+            status = self._lib.wec_hydro_outputs(self._handle, t, *last[6])
+        else:
+            n = self.n
+            px, x = self._pointer("x", x, (n,))
+            pv, v = self._pointer("v", v, (n,))
+            pr, rows = self._pointer("rows", rows, (len(rows),), dtype=np.int64)
+            po, _ = self._pointer("out", out, (len(rows), n), output=True)
+            pp, _ = self._pointer("power", power, (COMPONENTS,), output=True)
+            pw, _ = self._pointer("work", work, (COMPONENTS,), output=True)
+            args = (px, pv, n, pr, len(rows), po, pp, pw, self._addresses[3])
+            self._last_outputs = (x, v, rows, out, power, work, args)
+            status = self._lib.wec_hydro_outputs(self._handle, t, *args)
+        if status:
+            self._check(status)
+        return self._eta[0].item()
 
     @property
     def block(self) -> np.ndarray:
@@ -206,8 +230,7 @@ class HydroRuntime:
         """(F0, F0_rate, dF_dx, dF_dv) about (t, x, v) with the matrices restricted to the masks (n, n bool; None:
         every entry)."""
         n = self.n
-        px, x = self._pointer("x", x, (n,))
-        pv, v = self._pointer("v", v, (n,))
+        px, pv = self._inputs(x, v)
         masks = []
         for mask in (stiffness_mask, damping_mask):
             if mask is None:
@@ -227,11 +250,20 @@ class HydroRuntime:
     def advance(self, t: float, h: float, v: np.ndarray) -> None:
         """Commit ``v`` at the current point ``t`` to the radiation memory and move on by ``h`` (s)."""
         pv, v = self._pointer("v", v, (self.n,))
-        self._check(self._lib.wec_hydro_advance(self._handle, float(t), float(h), pv, self.n))
+        status = self._lib.wec_hydro_advance(self._handle, t, h, pv, self.n)
+        if status:
+            self._check(status)
+
+    def commit_work(self, t: float, x: np.ndarray, v: np.ndarray) -> None:
+        """Accept the point ``t`` (inputs ``x``, ``v``) into the work account."""
+        px, pv = self._inputs(x, v)
+        status = self._lib.wec_hydro_commit_work(self._handle, t, px, pv, self.n)
+        if status:
+            self._check(status)
 
     def do_step(self, t: float, h: float, x: np.ndarray, v: np.ndarray) -> None:
         """The FMU's step: the work at the point ``t`` committed, then :meth:`advance`."""
-        n = self.n
-        px, x = self._pointer("x", x, (n,))
-        pv, v = self._pointer("v", v, (n,))
-        self._check(self._lib.wec_hydro_do_step(self._handle, float(t), float(h), px, pv, n))
+        px, pv = self._inputs(x, v)
+        status = self._lib.wec_hydro_do_step(self._handle, t, h, px, pv, self.n)
+        if status:
+            self._check(status)

@@ -16,7 +16,8 @@
  * Use, per communication point: set nothing, call wec_hydro_outputs (any number of times, with any inputs: the
  * result depends only on the committed history and the inputs) and, if wanted, wec_hydro_linearise; then
  * wec_hydro_do_step (commits the work at the point and the velocity to the memory) or wec_hydro_advance (the
- * memory only) with the step to the next point.
+ * memory only) with the step to the next point (or wec_hydro_commit_work at the point's own time, then
+ * wec_hydro_advance at the host's: a host whose time differs in the last bits then changes nothing but the check).
  *
  * Model of the API: MoorDyn's C API. The handle is opaque; wec_hydro_create returns NULL on bad input and
  * wec_hydro_create_error says why; every other function checks its handle and its sizes and returns a
@@ -91,8 +92,12 @@ WEC_API int wec_hydro_linearise(wec_hydro *model, double t, const double *x, con
  * convolution a whole number of its steps, any h > 0 for the state space. t must be the current point. */
 WEC_API int wec_hydro_advance(wec_hydro *model, double t, double h, const double *v, size_t n);
 
-/* The FMU's step: the work at the point t for inputs x, v committed (wec_hydro_outputs evaluated there if it was
- * not), then wec_hydro_advance(t, h, v). */
+/* Commits the work at the point t for inputs x, v (wec_hydro_outputs evaluated there if it was not): the work
+ * account's trapezoidal sum goes on from this point. */
+WEC_API int wec_hydro_commit_work(wec_hydro *model, double t, const double *x, const double *v, size_t n);
+
+/* The FMU's step: wec_hydro_commit_work(t, x, v), then wec_hydro_advance(t, h, v); a refused step commits
+ * nothing. */
 WEC_API int wec_hydro_do_step(wec_hydro *model, double t, double h, const double *x, const double *v, size_t n);
 
 /* The model state (everything that changes as it runs) as bytes: its size, a copy into buffer[0, size) and a

@@ -135,6 +135,17 @@ int wec_hydro_advance(wec_hydro *model, double t, double h, const double *v, siz
     return st != WEC_OK ? st : advance(model, t, h, v);
 }
 
+int wec_hydro_commit_work(wec_hydro *model, double t, const double *x, const double *v, size_t n)
+{
+    if (!hydro_live(model))
+        return WEC_ERR_HANDLE;
+    int st = check_inputs(model, "wec_hydro_commit_work", t, x, 1, v, n);
+    if (st != WEC_OK || (st = point(model, t, x, v)) != WEC_OK)
+        return st;
+    work_commit(&model->work, t, model->power, model->work_value);
+    return WEC_OK;
+}
+
 int wec_hydro_do_step(wec_hydro *model, double t, double h, const double *x, const double *v, size_t n)
 {
     if (!hydro_live(model))
