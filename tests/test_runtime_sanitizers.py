@@ -176,3 +176,29 @@ def test_sanitized_runtime_refuses_or_runs_every_mutated_input(driver: Path, tmp
     assert set(outcomes) <= {"ok", "refused:"}
     assert refused >= MUTATIONS // 2, f"only {refused} of {MUTATIONS} mutations refused"
     assert all(len(line) > len("refused: runtime data: ") for line in lines if line.startswith("refused:"))
+
+
+def test_the_avx2_clones_give_the_same_bits(tmp_path: Path) -> None:
+    """The long sums run in eight fixed lanes, compiled for the baseline and for AVX2 (docs/runtime.md): built with
+    the clones (the processor's choice) and without (-DWEC_NO_CLONES), the driver's hash of every output of every
+    valid input is the same, bit for bit."""
+    compiler = _compiler()
+    if compiler is None:
+        pytest.skip("no C compiler on PATH (set CC)")
+    sources = sorted(str(p) for p in (ROOT / "native" / "src").rglob("*.c"))
+    files = []
+    for name, data in valid_inputs().items():
+        files.append(tmp_path / f"{name}.bin")
+        files[-1].write_bytes(data)
+    outputs = []
+    for flags in ([], ["-DWEC_NO_CLONES"]):
+        target = tmp_path / f"driver{len(outputs)}"
+        build = subprocess.run([compiler, "-std=c11", "-O2", *flags, "-I", str(ROOT / "native" / "include"), *sources,
+                                str(ROOT / "tests" / "native" / "hydro_driver.c"), "-lm", "-o", str(target)],
+                               capture_output=True, text=True)
+        assert build.returncode == 0, build.stderr
+        run = subprocess.run([str(target), *map(str, files)], capture_output=True, text=True, timeout=300)
+        assert run.returncode == 0, run.stdout + run.stderr
+        outputs.append(run.stdout)
+    assert outputs[0] == outputs[1]
+    assert outputs[0].count("ok ") == len(files)

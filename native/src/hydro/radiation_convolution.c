@@ -116,26 +116,28 @@ static void write_pending(conv_memory *c, const hydro_shared *s, const double *v
     }
 }
 
-/* the history sums of a block: history[k] for the point (k + 1) stride grid steps after its start */
+/* the history sums of a block: history[k] for the point (k + 1) stride grid steps after its start, the sum over the
+ * lags it shares with the block's start, sum_f row[f] window[shift_k + f] for f < size - shift_k. Each weight row
+ * is read from memory once for all the block's points: a chunk of it (4 kB, kept in the first-level cache) at a time
+ * against the window at every point's shift, each chunk's sum by wec_dot, the chunks added in order. */
+#define HISTORY_CHUNK 512
+
 static void block_history(const hydro_shared *s, const double *window, size_t stride, size_t count, double *history)
 {
     size_t n = s->n, size = s->m * n, step = stride * n;
     for (size_t i = 0; i < n; i++) {
         const double *row = s->weights + i * size;
-        size_t k = 0;
-        for (; k + 4 <= count; k += 4) {
-            size_t first = (k + 1) * step, common = size - first - 3 * step;
-            const double *w0 = window + first, *w1 = w0 + step, *w2 = w1 + step, *w3 = w2 + step;
-            double sums[4];
-            wec_dot4(row, w0, w1, w2, w3, common, sums);
-            for (size_t j = 0; j < 4; j++) {
-                size_t shift = first + j * step;
-                history[(k + j) * n + i] = sums[j] + wec_dot(row + common, window + common + shift, size - shift - common);
+        for (size_t k = 0; k < count; k++)
+            history[k * n + i] = 0.0;
+        for (size_t start = 0; start < size; start += HISTORY_CHUNK) {
+            size_t end = size - start < HISTORY_CHUNK ? size : start + HISTORY_CHUNK;
+            for (size_t k = 0; k < count; k++) {
+                size_t shift = (k + 1) * step, limit = size - shift; /* count stride < m: shift < size */
+                if (start >= limit)
+                    break; /* the later points' shifts are larger still */
+                size_t stop = end < limit ? end : limit;
+                history[k * n + i] += wec_dot(row + start, window + shift + start, stop - start);
             }
-        }
-        for (; k < count; k++) {
-            size_t shift = (k + 1) * step;
-            history[k * n + i] = wec_dot(row, window + shift, size - shift);
         }
     }
 }
