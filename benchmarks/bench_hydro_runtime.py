@@ -2,7 +2,8 @@
 
 Per scene, one model is prepared (``scene.hydro_model()``) and the runtime made from it (``hydro_fmu.runtime``); both
 are driven through the same input histories at the scene's macro step, as the hydro FMU drives them at each
-communication point: the outputs of the point (forces, powers, work, elevation: ``HydroModel.outputs``, the numba
+communication point, with the inputs written into the same two arrays each time (an FMU's value store): the outputs
+of the point (forces, powers, work, elevation: ``HydroModel.outputs``, the numba
 pass; ``HydroRuntime.outputs``), then the step (work committed, velocity into the memory: ``WorkAccount.commit`` +
 ``HydroModel.advance``; ``HydroRuntime.do_step``). A second figure adds the linearised interface (``HydroModel.affine``,
 numpy; ``HydroRuntime.linearise``), which the FMU computes only when a host reads it. Runs of the two paths
@@ -53,8 +54,11 @@ class Numba:
         n = model.n
         self.rows, self.out = np.arange(5, dtype=np.intp), np.zeros((5, n))
         self.power, self.work, self.account = np.zeros(4), np.zeros(4), WorkAccount()
+        self.x, self.v = np.zeros(n), np.zeros(n)
 
-    def point(self, t: float, h: float, x: np.ndarray, v: np.ndarray, linearised: bool) -> None:
+    def point(self, t: float, h: float, x_in: np.ndarray, v_in: np.ndarray, linearised: bool) -> None:
+        x, v = self.x, self.v
+        x[:], v[:] = x_in, v_in
         self.model.outputs(t, x, v, self.rows, self.out, self.power, self.account, self.work)
         if linearised:
             self.model.affine(t, x, v, self.pattern)
@@ -69,8 +73,11 @@ class Runtime:
         self.masks = pattern.mask(n, "stiffness"), pattern.mask(n, "damping")
         self.rows, self.out = np.arange(5, dtype=np.int64), np.zeros((5, n))
         self.power, self.work = np.zeros(4), np.zeros(4)
+        self.x, self.v = np.zeros(n), np.zeros(n)
 
-    def point(self, t: float, h: float, x: np.ndarray, v: np.ndarray, linearised: bool) -> None:
+    def point(self, t: float, h: float, x_in: np.ndarray, v_in: np.ndarray, linearised: bool) -> None:
+        x, v = self.x, self.v
+        x[:], v[:] = x_in, v_in
         self.runtime.outputs(t, x, v, self.rows, self.out, self.power, self.work)
         if linearised:
             self.runtime.linearise(t, x, v, *self.masks)

@@ -117,20 +117,21 @@ static void write_pending(conv_memory *c, const hydro_shared *s, const double *v
 }
 
 /* the history sums of a block: history[k] for the point (k + 1) stride grid steps after its start, the sum over the
- * lags it shares with the block's start, sum_f row[f] window[shift_k + f] for f < size - shift_k. Each weight row
- * is read from memory once for all the block's points: a chunk of it (4 kB, kept in the first-level cache) at a time
- * against the window at every point's shift, each chunk's sum by wec_dot, the chunks added in order. */
+ * lags it shares with the block's start, sum_f row[f] window[shift_k + f] for f < size - shift_k. The weights are
+ * read from memory once for all the block's points and the window once for all the rows: a chunk of lags (4 kB of
+ * each weight row) at a time, against the window at every point's shift (kept in the first-level cache), each
+ * chunk's sum by wec_dot, the chunks added in order. */
 #define HISTORY_CHUNK 512
 
 static void block_history(const hydro_shared *s, const double *window, size_t stride, size_t count, double *history)
 {
     size_t n = s->n, size = s->m * n, step = stride * n;
-    for (size_t i = 0; i < n; i++) {
-        const double *row = s->weights + i * size;
-        for (size_t k = 0; k < count; k++)
-            history[k * n + i] = 0.0;
-        for (size_t start = 0; start < size; start += HISTORY_CHUNK) {
-            size_t end = size - start < HISTORY_CHUNK ? size : start + HISTORY_CHUNK;
+    for (size_t k = 0; k < count * n; k++)
+        history[k] = 0.0;
+    for (size_t start = 0; start < size; start += HISTORY_CHUNK) {
+        size_t end = size - start < HISTORY_CHUNK ? size : start + HISTORY_CHUNK;
+        for (size_t i = 0; i < n; i++) {
+            const double *row = s->weights + i * size;
             for (size_t k = 0; k < count; k++) {
                 size_t shift = (k + 1) * step, limit = size - shift; /* count stride < m: shift < size */
                 if (start >= limit)
