@@ -1,5 +1,6 @@
 """Runtime input of small synthetic hydro models for the runtime's tests (no scene, no database): the arrays of
-:mod:`hydro_fmu.runtime_input` written directly, so that each test switches on exactly the concept it checks."""
+:mod:`hydro_fmu.runtime_input` written directly, so that each test switches on exactly the concept it checks; and
+the reference formulas the tests share."""
 
 from __future__ import annotations
 
@@ -34,6 +35,19 @@ def data(**kwargs: object) -> bytes:
 
 def runtime(**kwargs: object) -> HydroRuntime:
     return HydroRuntime(data(**kwargs))
+
+
+def direct_convolution(kernel: np.ndarray, dt: float, history: dict[int, np.ndarray], now: int) -> np.ndarray:
+    """mu at grid point ``now``: sum_j w_j K(j dt) v(now - j), trapezoidal weights over the kernel's m samples,
+    zero velocity before the start (grid velocities in ``history``): the convolution written out."""
+    m, n, _ = kernel.shape
+    mu = np.zeros(n)
+    for j in range(m):
+        if now - j < 0:
+            break
+        w = dt / 2 if j in (0, m - 1) else dt
+        mu += w * kernel[j] @ history[now - j]
+    return mu
 
 
 def box_corners(length: float, width: float, height: float, centre=(0.0, 0.0, 0.0)) -> np.ndarray:

@@ -16,23 +16,10 @@ import copy
 import numpy as np
 import pytest
 
-from .hydro_runtime_cases import runtime
+from .hydro_runtime_cases import direct_convolution, runtime
 
 DT, M, N = 0.1, 40, 3
 DOFS = [(0, 0), (0, 2), (0, 4)]
-
-
-def direct_convolution(kernel: np.ndarray, dt: float, history: dict[int, np.ndarray], now: int) -> np.ndarray:
-    """mu at grid point ``now``: sum_j w_j K(j dt) v(now - j), trapezoidal weights over the kernel's m samples,
-    zero velocity before the start (grid velocities in ``history``)."""
-    m, n, _ = kernel.shape
-    mu = np.zeros(n)
-    for j in range(m):
-        if now - j < 0:
-            break
-        w = dt / 2 if j in (0, m - 1) else dt
-        mu += w * kernel[j] @ history[now - j]
-    return mu
 
 
 class Run:

@@ -13,7 +13,7 @@
  *
  * Blocked sums: the lags of the next B points that reach only into velocities committed before a block's start s0
  * do not depend on the velocities to come, so one pass over the weights at the block's first point computes that
- * history part for the block's next points (four points per pass over a weight row), and each point then adds its
+ * history part for the block's next points (each weight row streamed once per block), and each point then adds its
  * own b = c - s0 + 1 most recent lags: the same products as the direct sum in another order (equal to round-off),
  * the weights streamed once per B points instead of at every point. A point outside the block (past its end, an
  * offset the block does not hold because the step changed, no block yet) starts a new one at its own s0 = steps
