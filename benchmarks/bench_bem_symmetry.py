@@ -26,7 +26,7 @@ from common import write_report
 
 from hydro_fmu.bem import compute_database
 from orchestrator.scenario import load_scenario
-from orchestrator.scene import bem_inputs
+from orchestrator.scene.database import bem_inputs
 
 ROOT = Path(__file__).resolve().parent.parent
 

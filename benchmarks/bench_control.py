@@ -26,8 +26,8 @@ import numpy as np
 
 from orchestrator.control.bridge import ControlBridge, ControlSettings
 from orchestrator.control.protocol import Manifest, Signal
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.scenario import load_scenario
-from orchestrator.simulation import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -39,7 +39,7 @@ def free_endpoint() -> str:
 
 
 def controller(run_id: str, endpoint: str) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "orchestrator.cli", "controller", "passive", "--run", run_id,
+    return subprocess.Popen([sys.executable, "-m", "wec_cosim.cli", "controller", "passive", "--run", run_id,
                              "--connect", endpoint], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 

@@ -26,11 +26,12 @@ from pathlib import Path
 from common import physics_loop, write_report
 
 from hydro_fmu.model import HydroModel
-from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.masters import JacobiMaster
+from orchestrator.cosim.masters import JacobiMaster
+from orchestrator.cosim.recorder import Recorder
+from orchestrator.cosim.simulation import make_components
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import Recorder, make_components
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -32,8 +32,8 @@ from pathlib import Path
 import numpy as np
 from common import write_report
 
-from orchestrator.components import FmuComponent
-from orchestrator.fmu_builder import build_scene_fmus
+from orchestrator.fmi.components import FmuComponent
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import HYDRO, load_scene
 

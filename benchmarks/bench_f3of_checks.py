@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 from common import write_report
 
+from orchestrator.cosim.simulation import format_summary, run_scenario
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import format_summary, run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 NAMES = ("f3of_dt1", "f3of_dt2", "f3of_dt3", "f3of_rao")
@@ -51,7 +51,7 @@ def pair_errors(added_mass_inf: str) -> list[str]:
     scaled as the run's frequency error (sqrt(s_i s_j), s_i from the database's B and w (A - A_inf))."""
     from hydro_fmu.hdb import DOF_NAMES
     from hydro_fmu.state_space import dof_scales
-    from orchestrator.frequency_domain import kernel_coefficients, scene_kernel
+    from orchestrator.reference.frequency_domain import kernel_coefficients, scene_kernel
 
     scenario = load_scenario(ROOT / "scenarios" / "f3of_rao.toml")
     scenario.hydro.added_mass_inf = added_mass_inf

@@ -26,11 +26,11 @@ from pathlib import Path
 import numpy as np
 from common import write_report
 
-from orchestrator.decay import fit_decay, natural_modes
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference.decay import fit_decay, natural_modes
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 

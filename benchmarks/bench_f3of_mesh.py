@@ -28,7 +28,7 @@ from common import write_report
 
 from hydro_fmu.bem import cached_database
 from orchestrator.scenario import load_scenario
-from orchestrator.scene import bem_inputs
+from orchestrator.scene.database import bem_inputs
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "scenarios" / "f3of_dt3.toml"

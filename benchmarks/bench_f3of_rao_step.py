@@ -24,12 +24,12 @@ from pathlib import Path
 import numpy as np
 from common import write_report
 
-from orchestrator import frequency_domain
-from orchestrator.decay import fit_forced
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
+from orchestrator.reference.decay import fit_forced
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 COORDINATES = [(b, j) for b in ("base", "flap1", "flap2") for j in (0, 2, 4)]

@@ -36,7 +36,7 @@ SCENES = (("hinge_barge", None), ("array_4n3la", 20.0))
 
 def child_run(scenario: str, duration: float | None, cache: Path, out: Path) -> tuple[float, float]:
     """(user + system CPU seconds, wall seconds) of one ``wec-cosim run`` in a child process."""
-    cmd = [sys.executable, "-m", "orchestrator.cli", "run", str(ROOT / "scenarios" / f"{scenario}.toml"), "--quiet",
+    cmd = [sys.executable, "-m", "wec_cosim.cli", "run", str(ROOT / "scenarios" / f"{scenario}.toml"), "--quiet",
            "--out", str(out)]
     if duration is not None:
         cmd += ["--duration", str(duration)]
@@ -59,9 +59,9 @@ def entry_points(scenario: str, cache: Path) -> tuple[float, list[tuple[str, flo
 import os, sys, time
 sys.path.insert(0, {str(ROOT)!r})
 from numba.core import event
-from orchestrator.overrides import apply_overrides
+from orchestrator.scenario.overrides import apply_overrides
 from orchestrator.scenario import load_scenario
-from orchestrator.simulation import run_scenario
+from orchestrator.cosim.simulation import run_scenario
 s = apply_overrides(load_scenario({str(ROOT / 'scenarios' / (scenario + '.toml'))!r}), ["simulation.duration=2"])
 stack, tops = [], []
 class Listener(event.Listener):

@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
-from orchestrator.simulation import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = (("nullspace", "rk4", 0.01), ("index1", "rk4", 0.01), ("index3", "generalized_alpha", 0.01),

@@ -33,8 +33,8 @@ DEFAULT_SCENARIOS = ("hinge_barge", "f3of_dt3", "array_4n3la:4", "cylinder_irreg
 
 def child(scenario: str, duration: float) -> None:
     """Run one scenario through fmpy, print per-call microseconds per macro step as JSON."""
-    from orchestrator import components as C
-    from orchestrator import simulation as S
+    from orchestrator.cosim import simulation as S
+    from orchestrator.fmi import components as C
     from orchestrator.scenario import load_scenario
 
     s = load_scenario(Path(os.environ["BENCH_SCENARIOS"]) / f"{scenario}.toml")

@@ -44,7 +44,7 @@ ARGS = ("ip", "fp", "pr", "pR", "v", "vdot", "a", "lam", "inputs", "refs", "h", 
 def capture(scenario_path: Path, duration: float, path: Path) -> None:
     """Run the scenario in process and save the last macro step's kernel arguments to ``path``."""
     from mbd_fmu import kernels
-    from orchestrator import simulation as S
+    from orchestrator.cosim import simulation as S
     from orchestrator.scenario import load_scenario
 
     scenario = load_scenario(scenario_path)

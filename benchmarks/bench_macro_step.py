@@ -37,8 +37,8 @@ def run_once(scenario, fused: bool) -> tuple[dict, float, np.ndarray]:
     """(us per macro step of each (component, call), wall seconds, the multibody outputs read (steps, k))."""
     from mbd_fmu.simulator import MultibodySimulator
     from mbd_fmu.slave import MultibodySlave
-    from orchestrator import components as C
-    from orchestrator import simulation as S
+    from orchestrator.cosim import simulation as S
+    from orchestrator.fmi import components as C
 
     acc: dict = defaultdict(float)
     read: list[np.ndarray] = []

@@ -4,7 +4,7 @@ Every master (FMUs through fmpy; the monolithic mode without FMI) at several fix
 extrapolation order 2 (the default) and 1, plus the energy-based adaptive Jacobi at several
 tolerances (smallest step = radiation grid 0.025 s). Error: largest displacement deviation from
 the Richardson-extrapolated monolithic reference over the whole run (transient included),
-relative to the largest displacement (``orchestrator.study``). Wall time: the median of
+relative to the largest displacement (``orchestrator.cosim.study``). Wall time: the median of
 ``--repeat`` runs, stepping only (no results file, initialisation excluded). Prints a table, writes it and a
 work-precision plot (PNG). Run from the repository root:
 
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator import study
+from orchestrator.cosim import study
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 

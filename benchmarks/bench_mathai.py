@@ -24,13 +24,13 @@ from pathlib import Path
 import numpy as np
 from common import pyplot, save_figure, write_report
 
-from orchestrator import frequency_domain
-from orchestrator.analysis import steady_response
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.cosim.study import regular_wave
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
+from orchestrator.results.analysis import steady_response
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
-from orchestrator.study import regular_wave
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "scenarios" / "mathai_assembly.toml"

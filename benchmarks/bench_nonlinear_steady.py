@@ -32,12 +32,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.common import write_report  # noqa: E402
-from orchestrator.analysis import harmonic_fit, steady_window, window_mean  # noqa: E402
-from orchestrator.pseudo_spectral import solve_steady  # noqa: E402
+from orchestrator.cosim.simulation import run_scenario  # noqa: E402
+from orchestrator.reference.pseudo_spectral import solve_steady  # noqa: E402
 from orchestrator.results import read_results  # noqa: E402
+from orchestrator.results.analysis import harmonic_fit, steady_window, window_mean  # noqa: E402
 from orchestrator.scenario import load_scenario  # noqa: E402
 from orchestrator.scene import load_scene  # noqa: E402
-from orchestrator.simulation import run_scenario  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HARMONICS = (1, 2, 3, 5, 7, 11, 15, 21, 31)

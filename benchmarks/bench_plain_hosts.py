@@ -6,7 +6,7 @@ iteration). Emulated here by our ``SimpleJacobiMaster`` (``resolve_feedthrough =
 ``tests/test_ssp.py`` and ``tests/test_plain_hosts.py`` check against those hosts to 1e-10. Rows:
 
 * two_floats (20 s, transient included): error against the Richardson-extrapolated monolithic
-  reference (``orchestrator.study``) at four steps, observed orders, stepping wall time, for the
+  reference (``orchestrator.cosim.study``) at four steps, observed orders, stepping wall time, for the
   plain host with the force (``force``, p = 0) and with the linearised interface, and for our
   resolving Jacobi with p = 2 (the project's default master) for comparison;
 * cylinder_regular (200 s): steady heave amplitude and phase against the exact frequency-domain
@@ -33,10 +33,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import write_report  # noqa: E402
 
-from orchestrator import study  # noqa: E402
+from orchestrator.cosim import study  # noqa: E402
+from orchestrator.cosim.simulation import run_scenario  # noqa: E402
 from orchestrator.scenario import load_scenario  # noqa: E402
 from orchestrator.scene import load_scene  # noqa: E402
-from orchestrator.simulation import run_scenario  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 STEPS = [0.2, 0.1, 0.05, 0.025]

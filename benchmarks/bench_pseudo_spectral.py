@@ -11,7 +11,7 @@ generalised-alpha) in regular waves of frequency ``--omega``
   fixed step; the steady state is then within 0.3 % of the exact answer, see the 15 s rows),
 
 each with the error of its steady-state amplitude (harmonic fit over the last two whole periods)
-against the exact linear frequency-domain answer (``orchestrator.frequency_domain.solve``) at the
+against the exact linear frequency-domain answer (``orchestrator.reference.frequency_domain.solve``) at the
 wave frequency: heave of barge 2 (the quantity seed 003 measured) and the worst of the heave and
 pitch of both barges. A 15 s run is the seed's setting (ramp 6 s); whether its transient has
 decayed shows in the length series (same step, longer runs). Surge is left out of the columns: the
@@ -46,13 +46,14 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator import frequency_domain, study
-from orchestrator.analysis import harmonic_fit
+from orchestrator.cosim import study
+from orchestrator.reference import frequency_domain
+from orchestrator.results.analysis import harmonic_fit
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 
 try:  # the pseudo-spectral solver is being written in parallel (issue 7)
-    from orchestrator.pseudo_spectral import solve_steady
+    from orchestrator.reference.pseudo_spectral import solve_steady
 except ImportError:
     solve_steady = None
 
@@ -111,7 +112,7 @@ def pseudo_spectral_rows(scene, omega: float, amplitude: float) -> list[str]:
     time of the whole solve including the linearisation and the hydrodynamic coefficients (median of 5),
     and the same error columns as the time-domain rows."""
     if solve_steady is None:
-        return ["pseudo-spectral: not available (orchestrator.pseudo_spectral.solve_steady not found)"]
+        return ["pseudo-spectral: not available (orchestrator.reference.pseudo_spectral.solve_steady not found)"]
     exact = exact_answer(scene, omega, amplitude)
     out = []
     for form in ("dae", "ode"):

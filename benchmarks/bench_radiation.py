@@ -33,8 +33,9 @@ from pathlib import Path
 import numpy as np
 from common import physics_loop, write_report
 
-from orchestrator import frequency_domain
-from orchestrator.scenario import PtoSection, load_scenario
+from orchestrator.reference import frequency_domain
+from orchestrator.scenario import load_scenario
+from orchestrator.scenario.body_sections import PtoSection
 from orchestrator.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent

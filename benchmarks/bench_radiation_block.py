@@ -29,7 +29,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 def run(scenario, blocks: int) -> float:  # noqa: ANN001
     """One in-process run with ``blocks`` points per pass: get_reals CPU per step, microseconds."""
     import hydro_fmu.runtime_input as runtime_input
-    from orchestrator import components, simulation
+    from orchestrator.cosim import simulation
+    from orchestrator.fmi import components
 
     saved = runtime_input.BLOCK_POINTS
     runtime_input.BLOCK_POINTS = blocks

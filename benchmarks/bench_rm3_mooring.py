@@ -30,12 +30,11 @@ from common import write_report
 
 from mbd_fmu.moorings import catenary_tensions
 from mbd_fmu.spec import build_simulator
-from orchestrator.frequency_domain import linear_model
-from orchestrator.overrides import apply_overrides
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference.frequency_domain import linear_model
 from orchestrator.results import read_results
-from orchestrator.scenario import load_scenario
+from orchestrator.scenario import apply_overrides, load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 DECAY = ROOT / "scenarios" / "rm3_surge_decay.toml"

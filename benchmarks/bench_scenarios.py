@@ -25,9 +25,8 @@ from pathlib import Path
 
 from common import write_report
 
-from orchestrator.overrides import apply_overrides
-from orchestrator.scenario import load_scenario
-from orchestrator.simulation import run_scenario
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.scenario import apply_overrides, load_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 

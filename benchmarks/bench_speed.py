@@ -27,8 +27,9 @@ Three parts (issue 15), each timed in this one process so that the ratios hold o
    compiled path with one multibody step per macro step (max_step 0.02 s): what the scenario's substeps buy.
    Then seed 000's F3OF decay test 3 (scenarios/f3of_dt3.toml as bundled: index-3, 0.1 s step, three
    bodies, two hinges) over 1500 s: the same figures, and the errors of the period and damping ratio of its
-   two free modes fitted to the run (``orchestrator.decay.fit_decay``, 300 s to the end, after the radiation
-   kernel) against the linear model's roots (``orchestrator.decay.natural_modes``, as tests/test_f3of.py does).
+   two free modes fitted to the run (``orchestrator.reference.decay.fit_decay``, 300 s to the end, after the radiation
+   kernel) against the linear model's roots (``orchestrator.reference.decay.natural_modes``, as
+   tests/test_f3of.py does).
    Then seed 000's 4N3LA and 9N9LA node/link-arm arrays, 20 s of their bundled irregular sea: real-time
    factors on the compiled and the Python path (issue 15: the seed 000 scenarios join the benchmark).
 
@@ -64,13 +65,13 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.common import cpu_model, load, revision_tree, write_report  # noqa: E402
-from benchreport.scaling import floating_row  # noqa: E402
 from mbd_fmu.bodies import RigidBody  # noqa: E402
 from mbd_fmu.formulations import Settings  # noqa: E402
 from mbd_fmu.joints import Joint  # noqa: E402
 from mbd_fmu.model import MultibodyModel  # noqa: E402
 from mbd_fmu.rotations import exp_so3  # noqa: E402
 from mbd_fmu.simulator import MultibodySimulator  # noqa: E402
+from wec_cosim.benchreport.scaling import floating_row  # noqa: E402
 
 G = 9.81
 H = 1e-3
@@ -244,10 +245,10 @@ def run_scene(name: str, compiled: bool, duration: float | None, in_process: boo
     """(wall and CPU real-time factors of the stepping loop, the run's result, its results) of a bundled
     scenario, through fmpy unless ``in_process``; ``duration`` None: the scenario's own; ``max_step``: the
     multibody substep instead of the scenario's."""
-    from orchestrator import masters
+    from orchestrator.cosim import masters
+    from orchestrator.cosim.simulation import run_scenario
     from orchestrator.results import read_results
     from orchestrator.scenario import load_scenario
-    from orchestrator.simulation import run_scenario
 
     s = load_scenario(ROOT / "scenarios" / f"{name}.toml")
     if duration is not None:
@@ -288,10 +289,11 @@ def hinge_barge(compiled: bool, duration: float, in_process: bool = False,
 
 def f3of_dt3_errors(data: dict, window_start: float = 20.0) -> list[tuple[float, float]]:
     """F3OF DT3: (period, damping ratio) relative errors of its two free modes fitted from ``window_start`` to the
-    end of the run against the linear model's roots (``benchreport.errors.decay_modes``, as tests/test_f3of.py)."""
-    from benchreport.errors import decay_modes
+    end of the run against the linear model's roots (``wec_cosim.benchreport.errors.decay_modes``, as
+    tests/test_f3of.py)."""
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
+    from wec_cosim.benchreport.errors import decay_modes
 
     return decay_modes(load_scene(load_scenario(ROOT / "scenarios" / "f3of_dt3.toml"), log=None), data, window_start)
 
@@ -462,7 +464,8 @@ def printed_rtf(tree: Path, out: Path) -> float:
     """The real-time factor that ``wec-cosim run scenarios/hinge_barge.toml`` prints when run from ``tree``'s
     packages and scenario (the stepping loop's wall clock, through fmpy)."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
-    run = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", "scenarios/hinge_barge.toml", "--out",
+    entry = "wec_cosim.cli" if (tree / "wec_cosim" / "cli.py").is_file() else "orchestrator.cli"  # before the layout
+    run = subprocess.run([sys.executable, "-m", entry, "run", "scenarios/hinge_barge.toml", "--out",
                           str(out)], cwd=tree, env=env, capture_output=True, text=True, check=True)
     return float(run.stdout.rsplit("real-time factor", 1)[1].split()[0])
 

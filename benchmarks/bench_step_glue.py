@@ -120,8 +120,8 @@ def mechanism(build, repeats: int, clock: KernelClock, best: bool = False) -> tu
 
 
 def hinge_barge_fmu(repeats: int, clock: KernelClock, best: bool = False) -> tuple[float, float]:
-    from orchestrator import components as C
-    from orchestrator import simulation as S
+    from orchestrator.cosim import simulation as S
+    from orchestrator.fmi import components as C
     from orchestrator.scenario import load_scenario
 
     scenario = load_scenario(ROOT / "scenarios" / "hinge_barge.toml")

@@ -33,12 +33,12 @@ from pathlib import Path
 import h5py
 from common import write_report
 
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.scenario import load_scenario
-from orchestrator.simulation import run_scenario
-from sweeps import run_sweep
-from sweeps.case import prepare_time_domain
-from sweeps.grid import case_scenario, plan_sweep
-from sweeps.scheduler import close_quietly, local_cluster
+from wec_cosim.sweeps import run_sweep
+from wec_cosim.sweeps.case import prepare_time_domain
+from wec_cosim.sweeps.grid import case_scenario, plan_sweep
+from wec_cosim.sweeps.scheduler import close_quietly, local_cluster
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -11,19 +11,47 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchreport.machine import cpu_model  # noqa: E402, F401 - re-exported for the scripts
-from benchreport.machine import load_text as load  # noqa: E402 - the load averages (1, 5, 15 min) as text
+from wec_cosim.benchreport.machine import cpu_model  # noqa: E402, F401 - re-exported for the scripts
+from wec_cosim.benchreport.machine import load_text as load  # noqa: E402 - the load averages (1, 5, 15 min) as text
 
 
 def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:
     """The files of git revision ``ref`` (the toolkit's packages, or ``paths`` that exist at that revision)
     extracted into ``tmp``, for A/B runs against an earlier state in alternating processes."""
-    paths = paths or ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps"]
+    paths = paths or [  # "sweeps": its place before the layout of wec_cosim/
+            "fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps", "wec_cosim"]
     present = [p for p in paths if subprocess.run(["git", "cat-file", "-e", f"{ref}:{p}"], cwd=ROOT,
                                                   capture_output=True).returncode == 0]
     archive = subprocess.run(["git", "archive", ref, *present], cwd=ROOT, capture_output=True, check=True).stdout
     subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
     return tmp
+
+
+def run_with_current_library(ref: str, script: str, args: list[str]) -> int:
+    """Run ``benchmarks/<script>`` as it was at git revision ``ref`` (its packages, scenarios and benchmarks
+    extracted into a temporary folder) with the current compiled runtime (``fmu_base/_wecrt.so``) beside that
+    revision's ``fmu_base``, and return its exit status. For side-by-side checks of the runtime against the Python
+    path it replaced: the revision's binding calls only functions the library still has, with the same signatures.
+    An ``--out`` path is made absolute first (the report lands where the caller means it)."""
+    import shutil
+    import tempfile
+
+    from fmu_base import native
+
+    args = list(args)
+    if "--out" in args and args.index("--out") + 1 < len(args):
+        i = args.index("--out") + 1
+        args[i] = str(Path(args[i]).resolve())
+    library = native.library_path()
+    if library is None:
+        native.library()  # raises with the message saying how to build it
+    paths = ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps", "benchreport",
+             "benchmarks", "scenarios"]
+    with tempfile.TemporaryDirectory(prefix="wec_revision_") as tmp:
+        tree = revision_tree(ref, Path(tmp), paths)
+        shutil.copy(library, tree / "fmu_base" / library.name)
+        return subprocess.run([sys.executable, str(tree / "benchmarks" / script), *args],
+                              cwd=tree / "benchmarks").returncode
 
 
 def report_header(script: str, versions: str = "") -> list[str]:
@@ -56,7 +84,7 @@ def physics_loop(hydro, system, h: float, steps: int, record: bool = False):
 
     import numpy as np
 
-    from orchestrator.masters import step_average_weights
+    from orchestrator.cosim.masters import step_average_weights
 
     weights = step_average_weights([0.0, -h, -2 * h], h)
     history: list[np.ndarray] = []

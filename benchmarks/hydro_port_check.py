@@ -1,4 +1,4 @@
-"""Port check of the compiled hydrodynamics runtime against the numba/numpy hydro path it replaced (issue 29).
+"""Port check of the compiled hydrodynamics runtime against the numba/numpy hydro path it replaced.
 
 The check compares, side by side on the same input histories over 100 s of every bundled scenario with
 hydrodynamics and variants of what none uses, the Python model's step-time path (``HydroModel.outputs``: the numba
@@ -16,37 +16,11 @@ given (``--only``, ``--duration``, ``--out``).
 
 from __future__ import annotations
 
-import shutil
-import subprocess
 import sys
-import tempfile
-from pathlib import Path
 
-from common import ROOT, revision_tree
+from common import run_with_current_library
 
-from fmu_base import native
-
-REVISION = "9b4783a"
-PATHS = ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps", "benchreport", "benchmarks",
-         "scenarios"]
-
-
-def main() -> None:
-    args = list(sys.argv[1:])
-    if "--out" in args:  # the output where the caller means it, not in the temporary tree
-        i = args.index("--out") + 1
-        args[i] = str(Path(args[i]).resolve())
-    library = native.library_path()
-    if library is None:
-        native.library()  # raises with the message saying how to build it
-    with tempfile.TemporaryDirectory(prefix="wec_port_check_") as tmp:
-        tree = revision_tree(REVISION, Path(tmp), PATHS)
-        shutil.copy(library, tree / "fmu_base" / library.name)
-        proc = subprocess.run([sys.executable, str(tree / "benchmarks" / "hydro_port_check.py"), *args],
-                              cwd=tree / "benchmarks")
-    sys.exit(proc.returncode)
-
+REVISION = "3005162"  # the last revision with the numba/numpy hydro path
 
 if __name__ == "__main__":
-    sys.path.insert(0, str(ROOT))
-    main()
+    sys.exit(run_with_current_library(REVISION, "hydro_port_check.py", sys.argv[1:]))

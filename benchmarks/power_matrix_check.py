@@ -40,10 +40,10 @@ import h5py
 import numpy as np
 from common import write_report
 
-from orchestrator.response_files import write_rao_file
+from orchestrator.reference.response_files import write_rao_file
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from sweeps.matrices import read_matrices
+from wec_cosim.sweeps.matrices import read_matrices
 
 ROOT = Path(__file__).resolve().parent.parent
 RAO_CELLS = [(1.0, 6.0), (3.0, 8.0), (5.0, 12.0)]

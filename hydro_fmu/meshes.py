@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .hdb import HydroDatabaseError
+from .mesh_clip import clip_below
 
 NATIVE_FORMATS = (".obj", ".stl")
 
@@ -85,8 +86,6 @@ class SurfaceMesh:
 
     def immersed_part(self) -> SurfaceMesh:
         """Triangles below z = 0, cut at the waterline (for checks; the BEM cut is Capytaine's)."""
-        from .nonlinear_hydrostatics import clip_below
-
         corners, _ = clip_below(self.corners, np.zeros(self.corners.shape[:2]))
         wet = from_corners(corners, self.name)
         # A corner exactly on the waterline leaves a zero-area sliver: not part of the hull.

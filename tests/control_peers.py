@@ -73,7 +73,7 @@ class OwnerController(Controller):
     def _on_measurements(self, sample) -> None:  # noqa: ANN001
         if self.second is None:
             self.second = subprocess.Popen(
-                [sys.executable, "-m", "orchestrator.cli", "controller", "passive", "--run", self.run_id,
+                [sys.executable, "-m", "wec_cosim.cli", "controller", "passive", "--run", self.run_id,
                  "--connect", self.endpoint], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         elif self.second.poll() is None:
             time.sleep(0.5)

@@ -12,11 +12,11 @@ import sys
 import pytest
 from fmpy import read_model_description
 
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.errors import MasterError, ScenarioError
-from orchestrator.fmu_builder import PLAIN_MBD, build_fmu, cache_dir
+from orchestrator.fmi.fmu_builder import PLAIN_MBD, build_fmu, cache_dir
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import ROOT, SCENARIOS
 
@@ -68,7 +68,7 @@ def test_divergence_is_one_paragraph_from_the_cli(tmp_path) -> None:
     text = PATH.read_text().replace('added_mass = "mass_matrix"', 'added_mass = "explicit_force"')
     path = tmp_path / "light.toml"
     path.write_text(text.replace("[hydro]", f'[hydro]\ncache_dir = "{SCENARIOS / "hydro_cache"}"'))
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", str(path), "--out",
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "run", str(path), "--out",
                            str(tmp_path / "b.h5"), "--quiet"], capture_output=True, text=True, cwd=ROOT,
                           env=os.environ.copy(), timeout=300)
     assert proc.returncode == 2

@@ -1,12 +1,13 @@
-"""The bench report's hard cases (benchreport/hard_cases.py): physical expectations on small maps, the figure."""
+"""The bench report's hard cases (wec_cosim/benchreport/hard_cases.py): physical expectations on small maps, the
+figure."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
 
-from benchreport import hard_cases
-from benchreport.points import ROOT, Point, Variant
+from wec_cosim.benchreport import hard_cases
+from wec_cosim.benchreport.points import ROOT, Point, Variant
 
 
 def test_explicit_added_mass_diverges_on_a_light_float_while_the_mass_matrix_stays_exact():
@@ -69,7 +70,7 @@ def test_a_pto_spring_one_macro_step_long_resonates_with_the_held_input():
 def test_long_run_measures_hold_the_constraint_and_the_energy_balance():
     """A minute of the hinge barge in the long run's sea: the constraint residual stays at round-off and the
     wave-to-wire energy balance closes to 1 % of the work the waves did (physical invariants)."""
-    from benchreport.points import run_point
+    from wec_cosim.benchreport.points import run_point
 
     variant = Variant("scenarios/hinge_barge.toml", (*hard_cases.LONG_SEA, "simulation.duration=60"))
     p = run_point(variant, measures=hard_cases._long_run_measures(20.0))

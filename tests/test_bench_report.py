@@ -1,4 +1,4 @@
-"""The bench report's parts (benchreport/): points rerun as the commands they print, list overrides, the error
+"""The bench report's parts (wec_cosim/benchreport/): points rerun as the commands they print, list overrides, the error
 measures against independent answers, run classification and the report files. The whole `wec-cosim bench
 --quick` runs in the slow suite (under 10 minutes)."""
 
@@ -13,14 +13,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from benchreport import errors
-from benchreport.points import ROOT, Point, Variant, run_point
 from orchestrator.errors import ScenarioError
-from orchestrator.overrides import apply_overrides
 from orchestrator.results import read_results
-from orchestrator.scenario import load_scenario
+from orchestrator.scenario import apply_overrides, load_scenario
 from orchestrator.scene import load_scene
-from sweeps.grid import apply_params
+from wec_cosim.benchreport import errors
+from wec_cosim.benchreport.points import ROOT, Point, Variant, run_point
+from wec_cosim.sweeps.grid import apply_params
 
 CYLINDER = Variant("scenarios/cylinder_regular.toml", ("simulation.duration=100", "simulation.step=0.2"))
 IRREGULAR = Variant("scenarios/two_floats.toml", ("waves.kind=irregular", "waves.spectrum=jonswap", "waves.hs=1.0",
@@ -34,11 +33,11 @@ def test_a_variant_reruns_as_the_command_it_prints(tmp_path: Path) -> None:
     assert point.stable and np.isfinite(point.error)
     args = shlex.split(CYLINDER.command())[2:]  # after "wec-cosim run"
     out = tmp_path / "rerun.h5"
-    run = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", *args, "--out", str(out), "--quiet"],
+    run = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "run", *args, "--out", str(out), "--quiet"],
                          cwd=ROOT, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     scene = load_scene(apply_overrides(load_scenario(ROOT / CYLINDER.scenario), list(CYLINDER.overrides)), log=None)
-    from orchestrator.simulation import compare_with_frequency_domain
+    from orchestrator.cosim.simulation import compare_with_frequency_domain
 
     class Result:  # the comparisons of the rerun, as run_scenario makes them
         comparisons = compare_with_frequency_domain(scene, read_results(out))
@@ -88,7 +87,7 @@ def test_irregular_error_converges_to_the_exact_linear_response() -> None:
 def test_exact_response_of_a_one_component_sea_is_the_regular_wave_answer() -> None:
     """The superposition with one component (a regular wave of phase 40 deg) has the first harmonic that the
     regular-wave comparison takes as exact: the RAO times the amplitude times exp(i phase) (same convention)."""
-    from orchestrator.analysis import harmonic_fit
+    from orchestrator.results.analysis import harmonic_fit
 
     v = Variant("scenarios/two_floats.toml", ("waves.phase_deg=40",))
     scene = load_scene(apply_overrides(load_scenario(ROOT / v.scenario), list(v.overrides)), log=None)
@@ -96,7 +95,7 @@ def test_exact_response_of_a_one_component_sea_is_the_regular_wave_answer() -> N
     omega = 2 * np.pi / w.period
     t = np.linspace(0.0, 4 * w.period, 401)
     coords, x = errors.linear_irregular_response(scene, t)
-    from orchestrator import frequency_domain
+    from orchestrator.reference import frequency_domain
 
     fd = frequency_domain.solve(scene, np.array([omega]))
     for j, (body, dof) in enumerate(coords):
@@ -105,7 +104,7 @@ def test_exact_response_of_a_one_component_sea_is_the_regular_wave_answer() -> N
 
 
 def test_report_files_hold_every_point_with_its_command(tmp_path: Path) -> None:
-    from benchreport.report import Report, write
+    from wec_cosim.benchreport.report import Report, write
 
     rep = Report(quick=True)
     good = Point(CYLINDER, "ok", 0.5, 60.0, error=0.001)  # RTF 120
@@ -122,7 +121,7 @@ def test_report_files_hold_every_point_with_its_command(tmp_path: Path) -> None:
 
 
 def test_a_failing_part_leaves_the_others_and_an_interrupt_keeps_the_parts_done(tmp_path: Path) -> None:
-    from benchreport.report import Report, run_parts
+    from wec_cosim.benchreport.report import Report, run_parts
 
     def broken() -> str:
         raise ValueError("no database")
@@ -146,7 +145,7 @@ def test_bench_quick_writes_the_report_in_under_ten_minutes(tmp_path: Path) -> N
     import time
 
     start = time.time()
-    run = subprocess.run([sys.executable, "-m", "orchestrator.cli", "bench", "--quick", "--out", str(tmp_path),
+    run = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "bench", "--quick", "--out", str(tmp_path),
                           "--quiet"], cwd=ROOT, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr[-3000:]
     text = (tmp_path / "README.md").read_text()

@@ -11,7 +11,7 @@ import pytest
 from hydro_fmu.bem import BemBody, BemSettings, BodyGeometry, cache_key, cached_database, compute_database
 from hydro_fmu.hdb import HydroDatabaseError
 from orchestrator.scenario import load_scenario
-from orchestrator.scene import bem_inputs
+from orchestrator.scene.database import bem_inputs
 
 from .conftest import SCENARIOS
 

@@ -14,8 +14,8 @@ import h5py
 import numpy as np
 import pytest
 
-from orchestrator.checkpoints import checkpoint_path, read_checkpoint
 from orchestrator.results import read_results
+from orchestrator.results.checkpoints import checkpoint_path, read_checkpoint
 
 from .conftest import ROOT, SCENARIOS
 
@@ -35,7 +35,7 @@ def scenario_file(tmp_path, master: str, duration: float, every: float) -> str:
 
 
 def cli(*args: str, **kwargs) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "orchestrator.cli", *args], cwd=ROOT, env=os.environ.copy(),
+    return subprocess.Popen([sys.executable, "-m", "wec_cosim.cli", *args], cwd=ROOT, env=os.environ.copy(),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
 
 

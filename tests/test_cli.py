@@ -10,8 +10,8 @@ import h5py
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain
-from orchestrator.analysis import averaging_window
+from orchestrator.reference import frequency_domain
+from orchestrator.results.analysis import averaging_window
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 
@@ -19,7 +19,7 @@ from .conftest import ROOT, SCENARIOS
 
 
 def wec_cosim(*args: str, cwd=None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "orchestrator.cli", *args], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "wec_cosim.cli", *args], capture_output=True, text=True,
                           cwd=cwd or ROOT, env=os.environ.copy(), timeout=600)
 
 
@@ -64,7 +64,7 @@ def test_results_file_layout(run_output) -> None:
 def test_plot_mean_power_uses_the_summarys_window(run_output, tmp_path) -> None:
     """The figure's mean PTO power is the summary's (the last steady_periods wave periods, one function for
     both), not the mean over the whole run, which includes the 20 s ramp from rest."""
-    from orchestrator.plotting import mean_powers_of, plot_file
+    from orchestrator.results.plotting import mean_powers_of, plot_file
 
     proc, out = run_output
     line = next(x for x in proc.stdout.splitlines() if "pto mean power" in x)
@@ -78,7 +78,7 @@ def test_plot_mean_power_uses_the_summarys_window(run_output, tmp_path) -> None:
     mask, _ = averaging_window(scenario, t)
     assert t[mask][0] == pytest.approx(t[-1] - 10 * 5.6, abs=0.1) and t[mask][-1] == t[-1]
     assert abs(np.mean(power) / means["pto"] - 1) > 0.05  # what the figure showed before: the ramp included
-    assert [p.name for p in plot_file(out, tmp_path)] == ["cyl_timeseries.png"]
+    assert [p.name for p in plot_file(out, tmp_path)] == ["cyl_timeseries.png", "cyl_loads.png"]
 
 
 def test_averaging_window_after_the_ramp_when_there_is_no_wave_period() -> None:

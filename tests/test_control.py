@@ -20,10 +20,10 @@ import pytest
 from orchestrator.control import protocol
 from orchestrator.control.bridge import FAULTS, SOURCES
 from orchestrator.control.session import _config
+from orchestrator.cosim.simulation import format_summary, run_scenario
 from orchestrator.errors import MasterError
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
-from orchestrator.simulation import format_summary, run_scenario
 
 from . import toml_text
 from .conftest import ROOT, SCENARIOS
@@ -228,7 +228,7 @@ class Lines:
 
 
 def cli(*args: str) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "orchestrator.cli", *args], cwd=ROOT, stdout=subprocess.PIPE,
+    return subprocess.Popen([sys.executable, "-m", "wec_cosim.cli", *args], cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
 
 
@@ -386,7 +386,7 @@ def example_run(tmp_path, name: str, *settings: str, internal: tuple[float, floa
         s.control.run_id, s.control.endpoints = run_id, [endpoint]
     else:
         s = scenario(duration=duration, run_id=run_id, endpoints=[endpoint])
-    args = [sys.executable, "-m", "orchestrator.cli", "controller", name, "--run", run_id, "--connect", endpoint]
+    args = [sys.executable, "-m", "wec_cosim.cli", "controller", name, "--run", run_id, "--connect", endpoint]
     for item in settings:
         args += ["--set", item]
     proc = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

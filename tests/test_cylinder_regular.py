@@ -11,12 +11,12 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain
-from orchestrator.analysis import harmonic_fit, steady_window
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
+from orchestrator.results.analysis import harmonic_fit, steady_window
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import SCENARIOS
 
@@ -63,7 +63,7 @@ def measured_heave(tmp_path, period: float, n: int, extrapolation: int) -> compl
 def test_convergence_order_of_the_coupling(tmp_path, extrapolation, order) -> None:
     """Halving the macro step divides the error by 2^p: p = 1 with zero-order hold, p = 2 with
     step-averaged extrapolation of order 1 or 2 (inputs stay constant within a step: see
-    orchestrator.masters). Measured here (T = 6 s, steps T/50, T/100, T/200): orders 1.13, 1.06
+    orchestrator.cosim.masters). Measured here (T = 6 s, steps T/50, T/100, T/200): orders 1.13, 1.06
     (hold); 1.99, 2.00 (linear); 2.09, 2.03 (quadratic, with a 3.5x smaller error at T/50).
 
     Reference: the exact frequency-domain answer of the time-domain model itself, i.e. with the

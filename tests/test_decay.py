@@ -1,4 +1,4 @@
-"""Decay-record fits (orchestrator.decay): exact recovery of known damped modes."""
+"""Decay-record fits (orchestrator.reference.decay): exact recovery of known damped modes."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.decay import fit_decay
+from orchestrator.reference.decay import fit_decay
 
 
 def test_fit_recovers_two_close_damped_modes_and_an_offset() -> None:
@@ -40,8 +40,8 @@ def test_natural_mode_of_a_damped_float_without_memory_is_the_oscillator_root() 
     With the memory on, the kernel's impedance on the real axis equals the frequency-domain solver's
     ``radiation="impulse_response"`` impedance; and for the lightly damped float (PTO off) the database's
     first-order root agrees with the kernel's to 1 % in period and 5 % in damping ratio."""
-    from orchestrator.decay import ModalImpedance, database_modes, natural_modes
-    from orchestrator.frequency_domain import linear_model
+    from orchestrator.reference.decay import ModalImpedance, database_modes, natural_modes
+    from orchestrator.reference.frequency_domain import linear_model
     from orchestrator.scenario import load_scenario
     from orchestrator.scene import load_scene
 

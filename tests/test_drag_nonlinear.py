@@ -162,8 +162,8 @@ def test_clip_keeps_orientation_and_area() -> None:
 
 # ---------------------------------------------------------------------- through the FMUs
 def cylinder_run(tmp_path, **hydro):
+    from orchestrator.cosim.simulation import run_scenario
     from orchestrator.scenario import load_scenario
-    from orchestrator.simulation import run_scenario
 
     from .conftest import SCENARIOS
 

@@ -3,8 +3,8 @@
 References are physics, never a previous run: the closed bodies' volumes and centres of buoyancy
 (divergence theorem on the repaired meshes), static balance (weight against buoyancy), the free
 modes of the linear constrained model with the frequency-dependent radiation of the time-domain
-model (``orchestrator.decay.natural_modes``: complex roots of det Z), the exact linear free decay
-(``orchestrator.decay.linear_decay``) and the exact linear frequency-domain response
+model (``orchestrator.reference.decay.natural_modes``: complex roots of det Z), the exact linear free decay
+(``orchestrator.reference.decay.linear_decay``) and the exact linear frequency-domain response
 (``frequency_domain.solve``). Windows, tolerances and measured numbers: docs/f3of.md.
 """
 
@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 
 from hydro_fmu.meshes import read_mesh
-from orchestrator.decay import database_modes, fit_decay, linear_decay, natural_modes
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference.decay import database_modes, fit_decay, linear_decay, natural_modes
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import SCENARIOS
 
@@ -202,7 +202,7 @@ def test_dt3_from_10_degrees_through_fmpy(tmp_path) -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("step", [0.05, 0.025])
+@pytest.mark.parametrize("step", [pytest.param(0.05, marks=pytest.mark.acceptance), 0.025])
 def test_dt3_linear_regime_periods_and_damping_and_step_convergence(tmp_path, step) -> None:
     """From 1 deg (linear regime: from 0.1 deg the damping ratios move by 0.01 %): periods and damping
     ratios of both modes against each step's own roots (the kernel is sampled at the step) within the
@@ -224,6 +224,7 @@ DT1_WINDOW = (400.0, 2000.0)  # s: after the kernel's 240 s, 34 cycles (docs/f3o
 
 
 @pytest.mark.slow
+@pytest.mark.acceptance
 def test_dt1_surge_decay(tmp_path) -> None:
     """DT1: the period and the damping ratio within the issue's 1 % of the linear model's root. The
     damping ratio, about 5e-4 (mostly the impulse response's low-frequency error: the database's own
@@ -240,6 +241,7 @@ def test_dt1_surge_decay(tmp_path) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.acceptance
 def test_dt2_pitch_decay(tmp_path) -> None:
     """DT2 (damping ratio about 0.05: the kernel's continuation is ill-conditioned, tail weight > 100):
     against the exact linear free decay of the database's model, fitted the same way over the same
@@ -269,6 +271,8 @@ RAO_COORDINATES = [("base", 0), ("base", 2), ("base", 4), ("flap1", 0), ("flap1"
 # (damping ratio 0.027) besides the base heave (8.99 s) and the 48 s surge modes the ramp starts: the fit
 # needs the three and a 600 s record to separate them, and base surge (the smallest coordinate at 6 s)
 # carries a step error of 1.45 % at 0.1 s, 0.29 % at 0.05 s.
+# The acceptance run (`pytest -m acceptance`) checks the periods that need their own step and run length.
+ACCEPTANCE_PERIODS = (6.0, 9.0)
 RAO_RUNS = {6.0: (0.025, 600.0, 3), 7.0: (0.025, 600.0, 3), 9.0: (0.0125, 300.0, 1)}
 
 
@@ -278,8 +282,8 @@ def rao_errors(tmp_path, period: float) -> tuple[np.ndarray, np.ndarray]:
     with the A and B of the truncated impulse response the time-domain model convolves. The lightly
     damped free modes started by the ramp (the base's heave near 9 s rings for minutes) are fitted out
     with the steady harmonic (``decay.fit_forced``)."""
-    from orchestrator import frequency_domain
-    from orchestrator.decay import fit_forced
+    from orchestrator.reference import frequency_domain
+    from orchestrator.reference.decay import fit_forced
 
     step, duration, modes = RAO_RUNS.get(period, (0.1, 300.0, 1))
     s = scenario("f3of_rao", simulation__duration=duration, simulation__step=step)
@@ -312,7 +316,8 @@ def test_rao_at_10_s(tmp_path) -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("period", [T for T in RAO_PERIODS if T != 10.0])
+@pytest.mark.parametrize("period", [pytest.param(T, marks=pytest.mark.acceptance) if T in ACCEPTANCE_PERIODS else T
+                                    for T in RAO_PERIODS if T != 10.0])
 def test_rao_at_every_period(tmp_path, period) -> None:
     errors, _ = rao_errors(tmp_path, period)
     assert np.all(np.abs(errors[:, 0]) < 0.01) and np.all(np.abs(errors[:, 1]) < 2.0), errors

@@ -1,4 +1,4 @@
-"""The on-disk cache of the A_inf fits a scene load repeats (orchestrator/fit_cache.py)."""
+"""The on-disk cache of the A_inf fits a scene load repeats (orchestrator/scene/fit_cache.py)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator import fit_cache
-from orchestrator.fit_cache import cached_fit
+from orchestrator.scene import fit_cache
+from orchestrator.scene.fit_cache import cached_fit
 
 
 @pytest.fixture

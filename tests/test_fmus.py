@@ -7,12 +7,13 @@ import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
+from orchestrator.cosim.masters import JacobiMaster
+from orchestrator.cosim.recorder import Recorder
+from orchestrator.cosim.simulation import make_components
 from orchestrator.errors import MasterError
-from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.masters import JacobiMaster
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import HYDRO, MBD, load_scene
-from orchestrator.simulation import Recorder, make_components
 
 from .conftest import SCENARIOS
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain
+from orchestrator.reference import frequency_domain
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 

@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain
-from orchestrator.analysis import harmonic_fit, steady_window
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
+from orchestrator.results.analysis import harmonic_fit, steady_window
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import SCENARIOS
 
@@ -44,7 +44,7 @@ def test_mobility_of_the_planar_hinge_barge() -> None:
 def test_the_run_reports_the_mobility_the_started_simulator_finds(name: str) -> None:
     """The mobility written into results files (assembly analysis only, no integrator start) is the report of the
     started multibody simulator, redundant rows included (F3OF: 16 equations of rank 5)."""
-    from orchestrator.simulation import mobility
+    from orchestrator.cosim.simulation import mobility
 
     scene = load_scene(load_scenario(SCENARIOS / f"{name}.toml"), log=None)
     report = scene.multibody_simulator().report

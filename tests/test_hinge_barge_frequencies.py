@@ -3,7 +3,7 @@ time-domain co-simulation's steady state against the exact linear frequency-doma
 
 Criterion (issue 7): within 1 % in amplitude and 2 degrees in phase for surge, heave and pitch of
 both barges and the hinge's relative rotation (pitch of barge 2 minus pitch of barge 1: exact for
-planar motion). The exact answer is ``orchestrator.frequency_domain.solve`` (the constrained system
+planar motion). The exact answer is ``orchestrator.reference.frequency_domain.solve`` (the constrained system
 on the null space of the linearised hinge, database A(omega) and B(omega)); the pseudo-spectral
 solver with N = 1 reproduces it to 1e-8, so this also checks that solution.
 
@@ -46,8 +46,9 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain, study
-from orchestrator.analysis import harmonic_fit
+from orchestrator.cosim import study
+from orchestrator.reference import frequency_domain
+from orchestrator.results.analysis import harmonic_fit
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import Scene, load_scene
 

@@ -11,7 +11,7 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
 from hydro_fmu.sea import SeaSpec, build_sea
-from orchestrator.fmu_builder import build_scene_fmus
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import HYDRO, load_scene
 
@@ -119,7 +119,7 @@ def test_spread_sea_outside_the_database_headings_is_refused() -> None:
 def test_impulse_response_warnings_reach_the_host_log() -> None:
     """The disc database's damping is still 11 % of its peak at 6 rad/s: the FMU says so in its log,
     with the radiation model's report, when it leaves initialisation."""
-    from orchestrator.components import FmuComponent
+    from orchestrator.fmi.components import FmuComponent
 
     scene = load_scene(load_scenario(SCENARIOS / "disc_decay.toml"), log=None)
     comp = FmuComponent("hydro", build_scene_fmus(scene)[HYDRO])
@@ -135,7 +135,7 @@ def test_impulse_response_warnings_reach_the_host_log() -> None:
 def test_state_space_and_irregular_sea_roll_back_exactly() -> None:
     """The FMU state holds the whole physics (state-space memory, phasor clock): stepping on from a
     restored state repeats the first pass bit for bit."""
-    from orchestrator.components import FmuComponent
+    from orchestrator.fmi.components import FmuComponent
 
     scenario = load_scenario(SCENARIOS / "cylinder_irregular.toml")
     scene = load_scene(scenario, log=None)

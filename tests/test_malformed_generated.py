@@ -12,7 +12,7 @@ option) at fault: no traceback, no crash, no hang (each in-process case has a 12
   are broken, output paths that cannot be written or would destroy a foreign file, names with path
   separators, control endpoints, CLI options, resume and plot on the wrong files.
 
-Most cases run in-process through ``orchestrator.cli.main`` (the console script's function); a
+Most cases run in-process through ``wec_cosim.cli.main`` (the console script's function); a
 representative set runs in real subprocesses (FMU failures under fmpy, a write failure mid-run,
 SIGINT), where a crash would show as a negative exit status. ``pytest -m slow`` runs every
 generated schema mutation instead of the sample.
@@ -41,8 +41,8 @@ import numpy as np
 import pytest
 
 from orchestrator import scenario as scenario_module
-from orchestrator.cli import main
-from orchestrator.schema import non_negative, positive
+from orchestrator.scenario.schema import non_negative, positive
+from wec_cosim.cli import main
 
 from .conftest import ROOT
 from .toml_text import bundled, dumps
@@ -490,7 +490,7 @@ def cli(argv: list[str], *, limit_bytes: int | None = None, timeout: float = 600
             signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # writes past the limit fail with EFBIG, as on a full disk
             resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
 
-    return subprocess.run([sys.executable, "-m", "orchestrator.cli", *argv], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "wec_cosim.cli", *argv], capture_output=True, text=True,
                           cwd=ROOT, timeout=timeout, preexec_fn=limits, env=os.environ.copy())
 
 
@@ -544,7 +544,7 @@ def test_sigint_leaves_an_interrupted_file_and_no_traceback(tmp_path) -> None:
     path = tmp_path / "s.toml"
     path.write_text(dumps(data))
     out = tmp_path / "out.h5"
-    proc = subprocess.Popen([sys.executable, "-m", "orchestrator.cli", "run", str(path), "--quiet", "--out", str(out)],
+    proc = subprocess.Popen([sys.executable, "-m", "wec_cosim.cli", "run", str(path), "--quiet", "--out", str(out)],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline and proc.poll() is None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orchestrator.masters import step_average_weights
+from orchestrator.cosim.masters import step_average_weights
 
 
 @pytest.mark.parametrize("p", [0, 1, 2])
@@ -33,7 +33,7 @@ class _Outputs:
         self.values = np.zeros(len(names))
 
     def port(self, names: list[str]):  # noqa: ANN201
-        from orchestrator.components import Port
+        from orchestrator.fmi.components import Port
 
         return Port(list(names), list(range(len(names))))
 
@@ -44,8 +44,8 @@ class _Outputs:
 def test_a_read_stops_on_each_value_beyond_its_limit_or_not_finite_and_only_then() -> None:
     """The divergence check's one-dot-product screen (sum of |value| / limit <= 1) never lets a bad value through
     and never stops a run whose values are each within their limits, whatever their sum."""
+    from orchestrator.cosim.masters import JacobiMaster, MasterSettings
     from orchestrator.errors import MasterError
-    from orchestrator.masters import JacobiMaster, MasterSettings
 
     names = ["x", "v", "energy.kinetic"]
     comp = _Outputs(names)

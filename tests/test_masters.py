@@ -10,11 +10,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orchestrator import study
-from orchestrator.masters import step_average_weights
+from orchestrator.cosim import study
+from orchestrator.cosim.masters import step_average_weights
+from orchestrator.cosim.simulation import prepare_run
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import prepare_run
 
 from .conftest import SCENARIOS
 
@@ -128,8 +128,8 @@ def test_monolithic_mode_converges_to_the_exact_time_domain_answer(tmp_path) -> 
     error falling at order 2."""
     import math
 
-    from orchestrator import frequency_domain
-    from orchestrator.analysis import harmonic_fit, steady_window
+    from orchestrator.reference import frequency_domain
+    from orchestrator.results.analysis import harmonic_fit, steady_window
 
     period = 6.0
     errors = []

@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 
 from hydro_fmu.waves import wavenumber
-from orchestrator import frequency_domain
-from orchestrator.analysis import steady_response
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.cosim.study import regular_wave
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
+from orchestrator.results.analysis import steady_response
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
-from orchestrator.study import regular_wave
 
 from .conftest import SCENARIOS
 
@@ -89,7 +89,7 @@ def test_long_waves_bend_the_assembly_by_the_change_of_slope(curves) -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("heading", [0.0, 45.0])
+@pytest.mark.parametrize("heading", [pytest.param(0.0, marks=pytest.mark.acceptance), 45.0])
 def test_time_domain_against_the_frequency_domain_at_five_frequencies(scene, heading: float, tmp_path) -> None:
     """One foot of amplitude, macro step T/100, 15 periods (two FMUs through fmpy): both breakover angles within
     2 % of the exact linear answer at 0.4, 0.7, 1.0, 1.3 and 1.6 rad/s."""
@@ -107,8 +107,8 @@ def test_rao_file_and_heading_figure_carry_the_breakover_angles(scene, curves, t
     import h5py
     from matplotlib.image import imread
 
-    from orchestrator.plotting import plot_file
-    from orchestrator.response_files import write_rao_file
+    from orchestrator.reference.response_files import write_rao_file
+    from orchestrator.results.plotting import plot_file
 
     path = tmp_path / "mathai.h5"
     write_rao_file(scene, path)

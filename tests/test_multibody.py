@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 
 from hydro_fmu.bemio import read_bemio, write_bemio
-from orchestrator import frequency_domain
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import SCENARIOS
 

@@ -7,12 +7,13 @@ import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
-from orchestrator.cli import main
-from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.masters import JacobiMaster
+from orchestrator.cosim.masters import JacobiMaster
+from orchestrator.cosim.recorder import Recorder
+from orchestrator.cosim.simulation import make_components
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import MBD, load_scene
-from orchestrator.simulation import Recorder, make_components
+from wec_cosim.cli import main
 
 from .conftest import SCENARIOS
 from .test_scenario import assert_rejected, write

@@ -30,12 +30,13 @@ import fmpy.validation
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain, study
-from orchestrator.analysis import harmonic_fit, steady_window
-from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.foreign_hosts import c_host_plan
-from orchestrator.host_environment import fmu_environment
-from orchestrator.pythonfmu_patch import is_patched, patch_library
+from orchestrator.cosim import study
+from orchestrator.fmi.fmu_builder import build_scene_fmus
+from orchestrator.fmi.foreign_hosts import c_host_plan
+from orchestrator.fmi.host_environment import fmu_environment
+from orchestrator.fmi.pythonfmu_patch import is_patched, patch_library
+from orchestrator.reference import frequency_domain
+from orchestrator.results.analysis import harmonic_fit, steady_window
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 
@@ -60,7 +61,7 @@ def c_host(tmp_path_factory) -> Path:
 
 def _export(name: str, folder: Path) -> Path:
     out = folder / f"{name}.ssp"
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "export-ssp", str(SCENARIOS / f"{name}.toml"),
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "export-ssp", str(SCENARIOS / f"{name}.toml"),
                            str(out)], capture_output=True, text=True, cwd=ROOT, env=os.environ.copy(), timeout=900)
     assert proc.returncode == 0, proc.stderr
     return out
@@ -83,7 +84,7 @@ def run_host(host: str, archive: Path, steps: int, step: float, variables: list[
     """One foreign host in its own process; its exit status must be 0 (no crash, not even at exit)."""
     out = tmp / f"{host}.npz"
     extra = ["--executable", str(executable)] if executable else []
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.foreign_hosts", host, str(archive), "--steps",
+    proc = subprocess.run([sys.executable, "-m", "orchestrator.fmi.foreign_hosts", host, str(archive), "--steps",
                            str(steps), "--step", repr(step), "--out", str(out), *extra, *variables],
                           capture_output=True, text=True, cwd=ROOT, env=os.environ.copy(), timeout=3600)
     assert proc.returncode == 0, (proc.returncode, proc.stderr[-3000:])
@@ -176,6 +177,7 @@ def test_hinge_barge_runs_alike_in_the_c_host_fmpy_and_libcosim(hinge, c_host, t
 
 
 @pytest.mark.slow
+@pytest.mark.acceptance
 def test_c_host_hinge_barge_is_stable_and_right_over_200_s(hinge, c_host, tmp_path) -> None:
     """Acceptance: 200 s of the exported hinge barge at its exported step (0.02 s) in the plain C host: equal
     to the same plain host run through fmpy (our fixed-step Jacobi with outputs read right after each step,
@@ -297,13 +299,13 @@ def test_missing_package_is_reported_by_the_fmu(cylinder, c_host, tmp_path) -> N
 
 
 def test_host_env_prints_and_sets_the_environment() -> None:
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "host-env", "--json"], capture_output=True,
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "host-env", "--json"], capture_output=True,
                           text=True, cwd=ROOT, timeout=120)
     assert proc.returncode == 0, proc.stderr
     env = json.loads(proc.stdout)
     assert Path(env["LD_PRELOAD"].split()[0]).is_file() and "libpython" in env["LD_PRELOAD"]
     assert str(Path(np.__file__).resolve().parent.parent) in env["PYTHONPATH"].split(os.pathsep)
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "host-env", "--", sys.executable, "-c",
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "host-env", "--", sys.executable, "-c",
                            "import os; print(os.environ['LD_PRELOAD'])"], capture_output=True, text=True, cwd=ROOT,
                           timeout=120)
     assert proc.returncode == 0 and proc.stdout.strip() == env["LD_PRELOAD"], proc.stderr

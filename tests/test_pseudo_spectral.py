@@ -13,14 +13,14 @@ import h5py
 import numpy as np
 import pytest
 
-from orchestrator import frequency_domain
-from orchestrator.analysis import harmonic_fit, steady_window, window_mean
-from orchestrator.cli import main
-from orchestrator.pseudo_spectral import FourierBasis, PeriodicProblem, solve_steady
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
+from orchestrator.reference.pseudo_spectral import FourierBasis, PeriodicProblem, solve_steady
 from orchestrator.results import read_results
+from orchestrator.results.analysis import harmonic_fit, steady_window, window_mean
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
+from wec_cosim.cli import main
 
 from .conftest import SCENARIOS
 

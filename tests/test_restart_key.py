@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 
 from mbd_fmu.spec import build_simulator
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.errors import ScenarioError
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "hinge_barge.toml"
 

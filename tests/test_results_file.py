@@ -30,7 +30,7 @@ def test_a_flush_cut_between_two_series_reads_back_as_the_rows_every_series_hold
 def test_rows_given_as_flat_values_land_in_their_series_and_missing_series_read_nan(tmp_path) -> None:
     """append_values: the leading columns of a row (row_layout order), later series by name, the rest NaN; the
     same file as row-by-row dicts."""
-    from orchestrator.results import row_layout
+    from orchestrator.results.results_file import row_layout
 
     series = {"time": (), "bodies/float/displacement": (6,), "energy/kinetic": (), "control/commands": (2,),
               "control/fault": ()}

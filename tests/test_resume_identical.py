@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orchestrator.checkpoints import checkpoint_path, read_checkpoint
-from orchestrator.cli import main
 from orchestrator.results import read_results
+from orchestrator.results.checkpoints import checkpoint_path, read_checkpoint
+from wec_cosim.cli import main
 
 from .toml_text import bundled, write
 
@@ -48,8 +48,12 @@ def scenario(tmp_path, case: str):
 
 # The default suite runs three representative cases (index-3 hinge barge, IQN-ILS's solver memory, the
 # monolithic Newton matrices); the slow suite runs every master and formulation, through fmpy and in-process.
+# The acceptance run (`pytest -m acceptance`) adds the other formulations, state space and the adaptive step.
 DEFAULT = {("index3 hinge barge", "fmpy"), ("iqn_ils", "fmpy"), ("monolithic", "fmpy")}
-PARAMS = [pytest.param(case, fmi, marks=() if (case, fmi) in DEFAULT else pytest.mark.slow)
+ACCEPTANCE = {("index1 hinge barge", "fmpy"), ("nullspace hinge barge", "in-process"), ("state_space", "fmpy"),
+              ("adaptive", "in-process"), ("aitken", "fmpy")}
+PARAMS = [pytest.param(case, fmi, marks=() if (case, fmi) in DEFAULT else
+                       (pytest.mark.slow, pytest.mark.acceptance) if (case, fmi) in ACCEPTANCE else pytest.mark.slow)
           for case in CASES for fmi in ("fmpy", "in-process")
           if not (fmi == "in-process" and case == "monolithic")]  # no FMI in the monolithic mode
 

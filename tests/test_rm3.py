@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 from mbd_fmu.moorings import catenary_tensions
-from orchestrator.checkpoints import checkpoint_path
-from orchestrator.fmu_builder import build_scene_fmus
-from orchestrator.masters import JacobiMaster
-from orchestrator.overrides import apply_overrides
+from orchestrator.cosim.masters import JacobiMaster
+from orchestrator.cosim.recorder import Recorder
+from orchestrator.cosim.simulation import make_components, resume_run, run_scenario
+from orchestrator.fmi.fmu_builder import build_scene_fmus
 from orchestrator.results import read_results
-from orchestrator.scenario import load_scenario
+from orchestrator.results.checkpoints import checkpoint_path
+from orchestrator.scenario import apply_overrides, load_scenario
 from orchestrator.scene import MBD, load_scene
-from orchestrator.simulation import Recorder, make_components, resume_run, run_scenario
 
 from .conftest import SCENARIOS
 from .test_scenario import assert_rejected, write
@@ -199,6 +199,7 @@ def test_database_repair_keeps_physical_matrices_and_fixes_the_rest() -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.acceptance
 def test_rm3_surge_decay_periods_against_the_linearised_scene(tmp_path) -> None:
     """Surge decay from 1 m (small motion): with the quasi-static lines the period equals the undamped natural
     period of the scene linearised at rest (Re Z(omega) singular, A(omega) from the database) within 2 %;

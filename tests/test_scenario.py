@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from orchestrator.errors import ScenarioError
-from orchestrator.scenario import load_scenario, reference_markdown
+from orchestrator.scenario import load_scenario
+from orchestrator.scenario.reference_doc import reference_markdown
 
 from .conftest import ROOT, SCENARIOS
 
@@ -145,7 +146,7 @@ def test_refined_frequency_grids_are_merged_into_the_bem_grid(tmp_path) -> None:
     """hydro.omega_refine adds its frequencies to hydro.omega (shared ones once, sorted); without it the grid,
     and so the database's cache key, is hydro.omega's alone."""
     from hydro_fmu.bem import frequency_grid
-    from orchestrator.scene import bem_inputs
+    from orchestrator.scene.database import bem_inputs
 
     plain = load_scenario(write(tmp_path, BASE))
     g = plain.hydro.omega

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from fmpy.ssp.ssd import read_ssd
 
-from orchestrator.masters import SimpleJacobiMaster
+from orchestrator.cosim.masters import SimpleJacobiMaster
+from orchestrator.cosim.simulation import prepare_run
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import prepare_run
 
 from .conftest import ROOT, SCENARIOS
 
@@ -28,7 +28,7 @@ VARIABLES = ["mbd.fore.x[3]", "mbd.aft.x[3]", "hydro.fore.F0[3]"]
 @pytest.fixture(scope="module")
 def archive(tmp_path_factory):
     out = tmp_path_factory.mktemp("ssp") / "two_floats.ssp"
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "export-ssp",
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "export-ssp",
                            str(SCENARIOS / "two_floats.toml"), str(out)], capture_output=True, text=True,
                           cwd=ROOT, env=os.environ.copy(), timeout=600)
     assert proc.returncode == 0, proc.stderr
@@ -69,7 +69,7 @@ def test_archive_is_valid_ssp(archive) -> None:
 @pytest.mark.parametrize("host", ["fmpy", "libcosim", "libcosim-osp"])
 def test_foreign_host_matches_our_jacobi(archive, ours, tmp_path, host) -> None:
     out = tmp_path / f"{host}.npz"
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.foreign_hosts", host, str(archive), "--steps",
+    proc = subprocess.run([sys.executable, "-m", "orchestrator.fmi.foreign_hosts", host, str(archive), "--steps",
                            str(STEPS), "--step", str(H), "--out", str(out), *VARIABLES],
                           capture_output=True, text=True, cwd=ROOT, env=os.environ.copy(), timeout=600)
     assert proc.returncode == 0, proc.stderr[-2000:]

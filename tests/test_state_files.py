@@ -17,7 +17,7 @@ import pytest
 
 from fmu_base import state_codec
 from fmu_base.state_codec import StateFormatError, decode, encode
-from orchestrator.checkpoints import checkpoint_path
+from orchestrator.results.checkpoints import checkpoint_path
 
 from .conftest import ROOT
 from .toml_text import bundled, write
@@ -74,7 +74,8 @@ def _datasource_name() -> str:
 
 
 @pytest.mark.parametrize("name", ["subprocess:Popen", "os:_wrap_close", "builtins:object", "numpy:ndarray",
-                                  "orchestrator.results:ResultsWriter", "mbd_fmu.linear_system:LinearMultibodySystem",
+                                  "orchestrator.results.results_file:ResultsWriter",
+                                  "mbd_fmu.linear_system:LinearMultibodySystem",
                                   "tests.test_state_files:_Node", "orchestrator.nothing_here:Evil"])
 def test_a_state_cannot_pick_a_class_outside_the_allow_list(name) -> None:
     """Importable classes, the project's own included, are refused when neither the template holds one nor
@@ -179,7 +180,7 @@ def checkpointed_run(tmp_path_factory):
     data["simulation"].update(duration=2.0, checkpoint_every=1.0)
     path = write(folder / "cyl.toml", data)
     out = folder / "cyl.h5"
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", str(path), "--out", str(out), "--quiet"],
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "run", str(path), "--out", str(out), "--quiet"],
                           capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert proc.returncode == 0, proc.stderr
     return path, out
@@ -203,7 +204,7 @@ def _resume_copy(tmp_path, run, edit, in_process: bool = False) -> tuple[subproc
             f.attrs["settings"] = json.dumps(settings)
     with h5py.File(ckpt, "a") as f:
         edit(f)
-    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "resume", str(results), "--quiet"],
+    proc = subprocess.run([sys.executable, "-m", "wec_cosim.cli", "resume", str(results), "--quiet"],
                           capture_output=True, text=True, cwd=ROOT, timeout=600)
     return proc, ckpt
 
@@ -255,8 +256,8 @@ def test_a_corrupt_checkpoint_is_a_clean_error(tmp_path, checkpointed_run, case)
 
 def test_no_pickle_in_any_state_reader() -> None:
     """The modules that read files a user may receive import no pickle (the codec is the only reader)."""
-    for module in ("fmu_base/slave.py", "fmu_base/state_codec.py", "orchestrator/checkpoints.py",
-                   "orchestrator/monolithic.py", "orchestrator/simulation.py"):
+    for module in ("fmu_base/slave.py", "fmu_base/state_codec.py", "orchestrator/results/checkpoints.py",
+                   "orchestrator/cosim/monolithic.py", "orchestrator/cosim/simulation.py"):
         text = (ROOT / module).read_text()
         assert "import pickle" not in text and "pickle.load" not in text, module
     assert state_codec.VERSION == 1

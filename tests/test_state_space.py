@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from hydro_fmu.state_space import DEFAULT_TOLERANCE, StateSpaceFitError, StateSpaceMemory, fit_state_space
-from orchestrator import frequency_domain
+from orchestrator.cosim.simulation import run_scenario
+from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
 
 from .conftest import SCENARIOS
 

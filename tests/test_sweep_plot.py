@@ -12,13 +12,14 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from orchestrator.cli import main
 from orchestrator.errors import ScenarioError, WecCosimError
-from orchestrator.plotting import plot_file
+from orchestrator.results.plotting import plot_file
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from sweeps import run_sweep
-from sweeps.grid import parse_grid_option, plan_sweep, set_grid
+from wec_cosim.cli import main
+from wec_cosim.sweeps import run_sweep
+from wec_cosim.sweeps.grid import parse_grid_option, plan_sweep, set_grid
+from wec_cosim.sweeps.plotting import DRAWERS
 
 from .conftest import SCENARIOS
 from .test_cli import wec_cosim
@@ -193,7 +194,7 @@ def test_plot_of_a_sweep_file_without_finished_cases_is_one_paragraph(tmp_path) 
     s.sweep.grid = {"waves": {"heading_deg": [90.0]}}
     out = run_sweep(s, tmp_path / "failed.h5", progress=False, log=None).path
     with pytest.raises(WecCosimError, match="no case of the sweep has finished"):
-        plot_file(out)
+        plot_file(out, drawers=DRAWERS)
     with h5py.File(out, "a") as f:
         del f["matrices"]
     proc = wec_cosim("plot", str(out))
@@ -210,7 +211,7 @@ def test_plot_command_draws_results_and_rao_figures(tmp_path) -> None:
     results = tmp_path / "run.h5"
     s = load_scenario(SCENARIOS / "two_floats.toml")
     s.simulation.duration = 10.0
-    from orchestrator.simulation import run_scenario
+    from orchestrator.cosim.simulation import run_scenario
 
     run_scenario(s, results, progress=False, log=None)
     files = plot_file(results, tmp_path / "png")
@@ -230,7 +231,7 @@ def test_plot_of_a_missing_or_foreign_file_is_one_paragraph(tmp_path) -> None:
 def test_sweep_progress_shows_done_failed_and_time_left() -> None:
     import io
 
-    from sweeps.progress import SweepProgress, duration
+    from wec_cosim.sweeps.progress import SweepProgress, duration
 
     stream = io.StringIO()  # not a terminal: one line per report, the first case and the last always
     bar = SweepProgress(6, 2, stream=stream, interval=3600)

@@ -19,15 +19,15 @@ import h5py
 import numpy as np
 import pytest
 
+from orchestrator.cosim.simulation import run_scenario
 from orchestrator.results import read_results
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
-from orchestrator.simulation import run_scenario
-from sweeps import run_sweep
-from sweeps.case import prepare_time_domain
-from sweeps.grid import case_scenario, plan_sweep
-from sweeps.scheduler import close_quietly, local_cluster
-from sweeps.summary import analysis_window, time_domain_summary
+from wec_cosim.sweeps import run_sweep
+from wec_cosim.sweeps.case import prepare_time_domain
+from wec_cosim.sweeps.grid import case_scenario, plan_sweep
+from wec_cosim.sweeps.scheduler import close_quietly, local_cluster
+from wec_cosim.sweeps.summary import analysis_window, time_domain_summary
 
 from .conftest import ROOT, SCENARIOS
 
@@ -128,7 +128,7 @@ def test_a_killed_worker_loses_and_duplicates_no_case(client, tmp_path) -> None:
 
 def test_an_interrupted_sweep_resumes_with_only_the_missing_cases(tmp_path) -> None:
     out = tmp_path / "sweep.h5"
-    command = [sys.executable, "-m", "orchestrator.cli", "sweep", str(SCENARIO), "--out", str(out), *SHORT,
+    command = [sys.executable, "-m", "wec_cosim.cli", "sweep", str(SCENARIO), "--out", str(out), *SHORT,
                "--grid", "waves.hs=1,1.5,2", "--workers", "1"]
     proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     watchdog = threading.Timer(TIMEOUT, proc.kill)  # a sweep that never reports cannot hang the suite

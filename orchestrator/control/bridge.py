@@ -30,7 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import MasterError
+from orchestrator.errors import MasterError
+
 from . import protocol
 from .protocol import COMMANDS, MEASUREMENTS, FrameError, Manifest
 from .session import open_master

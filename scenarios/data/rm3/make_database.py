@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 from hydro_fmu.bemio import write_bemio  # noqa: E402
 from hydro_fmu.hdb_repair import reciprocal_passive, truncated  # noqa: E402
 from orchestrator.scenario import load_scenario  # noqa: E402
-from orchestrator.scene import bem_inputs  # noqa: E402
+from orchestrator.scene.database import bem_inputs  # noqa: E402
 
 OMEGA_MAX = 2.5
 

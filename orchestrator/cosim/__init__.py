@@ -1,0 +1,13 @@
+"""Co-simulation: the master algorithm and the run.
+
+Modules, bottom to top: :mod:`.step_control` (fixed and energy-based adaptive macro steps),
+:mod:`.masters` (the master base and the explicit Jacobi and Gauss-Seidel masters), :mod:`.iterative_master`
+(iterations with rollback: Aitken, interface quasi-Newton), :mod:`.master_factory` (a master by its scenario
+name), :mod:`.coupling` (how the FMUs are wired for each added-mass mode), :mod:`.monolithic` (the same physics
+in one process, without FMI), :mod:`.recorder` (the master's outputs as rows of the results file),
+:mod:`.control_loop` (the external controller in the step loop), :mod:`.interrupts` (Ctrl-C at a step),
+:mod:`.simulation` (``wec-cosim run`` and ``resume``: scenario -> scene -> FMUs -> master -> results file ->
+summary against the exact answer), :mod:`.study` (accuracy studies over steps and masters).
+
+May import every other stage of :mod:`orchestrator`, and :mod:`hydro_fmu`, :mod:`mbd_fmu`, :mod:`fmu_base`.
+"""
