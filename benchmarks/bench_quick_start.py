@@ -51,7 +51,8 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     args = parser.parse_args()
     uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    lines = [*report_header("bench_quick_start.py"), f"# lscpu model name: {cpu_model()}", f"# uptime at start: {uptime}",
+    lines = [*report_header("bench_quick_start.py"), f"# lscpu model name: {cpu_model()}",
+             f"# uptime at start: {uptime}",
              f"# `wec-cosim run {SCENARIO}` in a child process; before: revision {BEFORE} (numba hydro pass), after: "
              "this tree (compiled hydro runtime); each tree its own cache, cold first run, then "
              f"{args.rounds} alternating warm runs", ""]
