@@ -205,8 +205,9 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
 
 # CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
 # kernels in benchmarks/results/first_run.txt (146-164 s), the null-space ones in
-# benchmarks/results/first_run_notice.txt (a cold null-space hinge-barge run 195 s in all). The hydrodynamics needs none: it runs on the compiled runtime
-# built at install (docs/runtime.md), so a linear scene compiles nothing at its first run.
+# benchmarks/results/first_run_notice.txt (a cold null-space hinge-barge run 195 s in all). The hydrodynamics needs
+# none: it runs on the compiled runtime built at install (docs/runtime.md), so a linear scene compiles nothing at its
+# first run.
 COMPILE_SECONDS = {("mbd_fmu", "kernels"): 155.0, ("mbd_fmu", "nullspace_kernels"): 35.0}
 
 
