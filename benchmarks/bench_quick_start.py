@@ -8,7 +8,7 @@ compiled), the next ``--rounds`` runs of the two trees alternate with warm cache
 process (and its user + system CPU seconds, steadier on a shared machine), medians and the ratio before / after.
 Not a timed assertion anywhere: the load is in the header and footer.
 
-    python benchmarks/bench_quick_start.py --out benchmarks/results/quick_start.txt   (about 5-10 minutes)
+    python benchmarks/bench_quick_start.py --rounds 7 --out benchmarks/results/quick_start.txt   (about 3 minutes)
 """
 
 from __future__ import annotations
