@@ -1,0 +1,302 @@
+"""The native hydrodynamics FMU (hydro_fmu/native_fmu.py, native/fmi): FMI 2.0 co-simulation with no Python inside.
+
+* fmpy's validation passes; the FMU's outputs equal the runtime's Python binding (hydro_fmu.runtime) on the same
+  input history (the same compiled physics, reached through FMI instead of ctypes);
+* fmpy's build of the FMU's sources/ gives a working binary with the same forces;
+* host behaviour: a step the runtime refuses is fmi2Error with the reason logged (never Discard), a final step
+  shorter than 1e-9 of the step is accepted, FMU states round-trip through serialisation, the directional
+  derivatives are the database's hydrostatic stiffness and the force's own dependence on the velocity;
+* in a process with no Python (`env -i`, a C host, `ldd` without libpython): forced heave of the cylinder gives the
+  database's A(omega), B(omega) and excitation within 1 % at three frequencies.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+from fmpy.validation import validate_fmu
+
+from hydro_fmu.native_fmu import MODEL_IDENTIFIER, RESOURCE, build_native_hydro_fmu, fmi_headers, sea_constants
+from hydro_fmu.runtime import HydroRuntime
+from orchestrator.scenario.loading import parse_scenario
+from orchestrator.scene import load_scene
+
+from .conftest import SCENARIOS
+
+HERE = Path(__file__).resolve().parent
+STEP = 0.1
+
+
+def _scene(period: float | None = None):
+    path = SCENARIOS / "cylinder_regular.toml"
+    text = path.read_text()
+    if period is not None:
+        assert "period = 5.6" in text
+        text = text.replace("period = 5.6", f"period = {period!r}")
+    return load_scene(parse_scenario(text, path), log=None)
+
+
+def _build(scene, path: Path) -> Path:
+    s = scene.scenario
+    return build_native_hydro_fmu(scene.hydro_model(), path, constants=sea_constants(scene.sea_spec()),
+                                  experiment=(0.0, s.simulation.duration, s.simulation.step))
+
+
+def _unzip(fmu: Path, where: Path) -> Path:
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(where)
+    return where
+
+
+@pytest.fixture(scope="module")
+def cylinder(tmp_path_factory):
+    scene = _scene()
+    fmu = _build(scene, tmp_path_factory.mktemp("native") / "cylinder.fmu")
+    return scene, fmu
+
+
+def _slave(fmu: Path, unzipped: Path, name: str = "hydro") -> tuple[FMU2Slave, dict[str, int]]:
+    md = read_model_description(str(fmu))
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipped), modelIdentifier=MODEL_IDENTIFIER,
+                      instanceName=name)
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    return slave, {v.name: v.valueReference for v in md.modelVariables}
+
+
+def test_fmpy_validation_passes_and_the_build_fixes_the_sea(cylinder) -> None:
+    scene, fmu = cylinder
+    assert validate_fmu(str(fmu)) == []
+    md = read_model_description(str(fmu))
+    names = {v.name: v for v in md.modelVariables}
+    assert md.coSimulation.providesDirectionalDerivative and md.coSimulation.canSerializeFMUstate
+    assert names["wave.period"].variability == "constant" and float(names["wave.period"].start) == 5.6
+    assert names["float.x[3]"].causality == "input" and names["float.F[3]"].causality == "output"
+    with zipfile.ZipFile(fmu) as z:
+        listed = set(z.namelist())
+    assert f"binaries/linux64/{MODEL_IDENTIFIER}.so" in listed and "sources/fmi/fmi2Functions.c" in listed
+    sources = md.buildConfigurations[0].sourceFileSets[0].sourceFiles
+    assert len(sources) > 20 and {f"sources/{f}" for f in sources} <= listed
+
+
+def _history(k: int) -> tuple[np.ndarray, np.ndarray]:
+    t = k * STEP
+    return np.array([0.4 * np.sin(0.9 * t) + 0.05 * np.cos(2.3 * t)]), np.array([0.3 * np.cos(0.7 * t) - 0.1])
+
+
+def test_outputs_equal_the_runtime_binding_on_the_same_history(cylinder, tmp_path) -> None:
+    """The FMU (through FMI) and hydro_fmu.runtime (through ctypes) run the same compiled physics: every output is
+    equal to round-off over 300 steps of an arbitrary input history, the linearised interface included."""
+    _, fmu = cylinder
+    unzipped = _unzip(fmu, tmp_path / "fmu")
+    slave, vr = _slave(fmu, unzipped)
+    runtime = HydroRuntime((unzipped / "resources" / RESOURCE).read_bytes())
+    outputs = ["float.F[3]", "float.F_exc[3]", "float.F_rad[3]", "float.F_hs[3]", "wave.elevation",
+               "energy.excitation_work", "energy.radiation_work", "energy.hydrostatic_work", "float.F0[3]",
+               "float.F0_rate[3]", "dF_dx[3,3]", "dF_dv[3,3]"]
+    refs = [vr[o] for o in outputs]
+    got, expected = [], []
+    for k in range(300):
+        t = k * STEP
+        x, v = _history(k)
+        slave.setReal([vr["float.x[3]"], vr["float.v[3]"]], [x[0], v[0]])
+        got.append(slave.getReal(refs))
+        eta = runtime.evaluate(t, x, v)
+        block, work = runtime.block, runtime.work
+        f0, rate, dfdx, dfdv = runtime.linearise(t, x, v)
+        expected.append([block[0, 0], block[1, 0], block[2, 0], block[3, 0], eta, *work[:3], f0[0], rate[0],
+                         dfdx[0, 0], dfdv[0, 0]])
+        slave.doStep(t, STEP)
+        runtime.do_step(t, STEP, x, v)
+    slave.terminate()
+    slave.freeInstance()
+    got, expected = np.array(got), np.array(expected)
+    assert np.abs(expected[:, 0]).max() > 1e4  # the excitation and the memory are really there
+    scale = np.maximum(np.abs(expected).max(axis=0), 1e-300)
+    difference = (np.abs(got - expected) / scale).max(axis=0)
+    print("largest difference relative to each output's range:", difference.max())
+    assert np.all(difference <= 1e-14), dict(zip(outputs, difference, strict=True))
+
+
+def _simulate(unzipped: Path, md) -> np.ndarray:
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipped), modelIdentifier=MODEL_IDENTIFIER,
+                      instanceName="built")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    forces = []
+    for k in range(200):
+        x, v = _history(k)
+        slave.setReal([vr["float.x[3]"], vr["float.v[3]"]], [x[0], v[0]])
+        forces.append(slave.getReal([vr["float.F[3]"]])[0])
+        slave.doStep(k * STEP, STEP)
+    slave.terminate()
+    slave.freeInstance()
+    return np.array(forces)
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="fmpy builds source FMUs with cmake")
+def test_fmpy_builds_a_working_binary_from_the_sources(cylinder, tmp_path) -> None:
+    from fmpy.build import build_platform_binary
+
+    _, fmu = cylinder
+    md = read_model_description(str(fmu))
+    shipped = _simulate(_unzip(fmu, tmp_path / "shipped"), md)
+    rebuilt = _unzip(fmu, tmp_path / "rebuilt")
+    shutil.rmtree(rebuilt / "binaries")
+    (tmp_path / "build").mkdir()
+    build_platform_binary(rebuilt, build_dir=tmp_path / "build")
+    assert (rebuilt / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so").exists()
+    np.testing.assert_allclose(_simulate(rebuilt, md), shipped, rtol=1e-12, atol=1e-12 * np.abs(shipped).max())
+
+
+def test_a_refused_step_is_an_error_with_its_reason(cylinder, tmp_path, capfd) -> None:
+    """A step that is not a whole multiple of the radiation step: fmi2Error (3), never Discard (2), the runtime's
+    reason in the log; the instance then refuses further steps."""
+    _, fmu = cylinder
+    slave, _ = _slave(fmu, _unzip(fmu, tmp_path / "fmu"))
+    slave.doStep(0.0, STEP)
+    with pytest.raises(FMICallException) as error:
+        slave.doStep(STEP, 0.15)
+    assert error.value.status == 3
+    with pytest.raises(FMICallException) as again:
+        slave.doStep(STEP, STEP)
+    assert again.value.status == 3
+    log = capfd.readouterr().out
+    assert "step refused at t = 0.1 s" in log and "not a whole multiple of the radiation convolution step" in log
+    assert "fmi2DoStep is not allowed when the FMU is failed" in log
+    slave.freeInstance()
+
+
+def test_a_final_step_shorter_than_1e_9_of_the_step_is_accepted(cylinder, tmp_path) -> None:
+    """OMSimulator's floating-point time ends a run with a sliver of a step: accepted, the model does not move."""
+    _, fmu = cylinder
+    slave, vr = _slave(fmu, _unzip(fmu, tmp_path / "fmu"))
+    t = 0.0
+    for k in range(10):
+        slave.doStep(k * STEP, STEP)
+        t = (k + 1) * STEP
+    before = slave.getReal([vr["float.F[3]"], vr["wave.elevation"]])
+    slave.doStep(t, 1e-12 * STEP)
+    assert slave.getReal([vr["float.F[3]"], vr["wave.elevation"]]) == before
+    slave.doStep(t + 1e-12 * STEP, STEP)  # and a regular step after it still fits the FMU's clock
+    slave.freeInstance()
+
+
+def test_fmu_state_serialisation_round_trip(cylinder, tmp_path) -> None:
+    _, fmu = cylinder
+    slave, vr = _slave(fmu, _unzip(fmu, tmp_path / "fmu"))
+    refs = [vr["float.F[3]"], vr["energy.radiation_work"]]
+
+    def run(first: int, count: int) -> list[list[float]]:
+        rows = []
+        for k in range(first, first + count):
+            x, v = _history(k)
+            slave.setReal([vr["float.x[3]"], vr["float.v[3]"]], [x[0], v[0]])
+            rows.append(slave.getReal(refs))
+            slave.doStep(k * STEP, STEP)
+        return rows
+
+    run(0, 30)
+    state = slave.getFMUstate()
+    serialised = slave.serializeFMUstate(state)
+    slave.freeFMUstate(state)
+    reference = run(30, 20)
+    restored = slave.deSerializeFMUstate(serialised)
+    slave.setFMUstate(restored)
+    slave.freeFMUstate(restored)
+    assert run(30, 20) == reference
+    assert slave.serializeFMUstate(slave.getFMUstate())[:8] == b"WECFMUS1"
+    slave.freeInstance()
+
+
+def test_directional_derivatives_are_the_stiffness_and_the_velocity_dependence(cylinder, tmp_path) -> None:
+    """dF/dx is minus the database's hydrostatic heave stiffness (linear hydrostatics); dF/dv equals the change of
+    F per unit change of v at the same point (F is affine in v: the memory's weight of the current velocity)."""
+    scene, fmu = cylinder
+    slave, vr = _slave(fmu, _unzip(fmu, tmp_path / "fmu"))
+    for k in range(50):
+        slave.doStep(k * STEP, STEP)
+    fx, fv, f = vr["float.x[3]"], vr["float.v[3]"], vr["float.F[3]"]
+    dfdx = slave.getDirectionalDerivative([f], [fx], [1.0])[0]
+    dfdv = slave.getDirectionalDerivative([f], [fv], [1.0])[0]
+    c33 = scene.hdb.hydrostatic_stiffness[0, 2, 2]
+    np.testing.assert_allclose(dfdx, -c33, rtol=1e-12)
+    base = slave.getReal([f])[0]
+    slave.setReal([fv], [1.0])
+    np.testing.assert_allclose(slave.getReal([f])[0] - base, dfdv, rtol=1e-9)
+    assert dfdv < 0  # damping
+    assert slave.getReal([vr["dF_dx[3,3]"], vr["dF_dv[3,3]"]]) == pytest.approx([dfdx, dfdv], rel=1e-14)
+    slave.freeInstance()
+
+
+# ---------------------------------------------------------------- no Python: env -i, a C host
+
+def _host(tmp_path: Path) -> Path:
+    exe = tmp_path / "forced_motion_host"
+    cc = os.environ.get("CC", "cc")
+    subprocess.run([cc, "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", f"-I{fmi_headers()}",
+                    str(HERE / "native" / "forced_motion_host.c"), "-o", str(exe), "-ldl", "-lm"], check=True)
+    return exe
+
+
+def _phasor(t: np.ndarray, y: np.ndarray, omega: float) -> complex:
+    """P with y = Re(P exp(i omega t)) + c, least squares."""
+    design = np.column_stack([np.cos(omega * t), -np.sin(omega * t), np.ones_like(t)])
+    (re, im, _), *_ = np.linalg.lstsq(design, y, rcond=None)
+    return complex(re, im)
+
+
+FREQUENCIES = (0.8, 1.12, 1.6)  # rad/s, on the database's grid (no interpolation in the expected values)
+
+
+def test_forced_heave_in_a_process_without_python_gives_the_database(tmp_path) -> None:
+    """Acceptance: a C host under `env -i` (no Python in the process: `ldd` of the FMU shows libc and libm only)
+    forces the cylinder in heave, x = X sin(omega t), in regular waves of the same frequency. From the last 8
+    periods: A(omega) = A_inf + Re(P_rad / X_hat) / omega^2 and B(omega) = -Im(P_rad / X_hat) / omega (the memory
+    force is -(A - A_inf) x'' - B x'), and the excitation per unit elevation P_exc / P_eta; each within 1 % of the
+    database at three frequencies."""
+    host = _host(tmp_path)
+    for omega in FREQUENCIES:
+        scene = _scene(period=2 * np.pi / omega)
+        fmu = _build(scene, tmp_path / f"cyl_{omega}.fmu")
+        unzipped = _unzip(fmu, tmp_path / f"cyl_{omega}")
+        library = unzipped / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so"
+        linked = subprocess.run(["ldd", str(library)], capture_output=True, text=True, check=True).stdout
+        assert "python" not in linked.lower() and "libm" in linked
+        out = tmp_path / f"forced_{omega}.txt"
+        amplitude, steps = 0.2, 1400
+        md = read_model_description(str(fmu))
+        subprocess.run(["env", "-i", str(host), str(unzipped), md.guid, "0", repr(amplitude), repr(omega), repr(STEP),
+                        str(steps), str(out)], check=True, timeout=120)
+        data = np.loadtxt(out)
+        t = data[:, 0]
+        window = t >= t[-1] - 8 * 2 * np.pi / omega
+        x_hat = -1j * amplitude  # x = X sin(omega t) = Re(-i X exp(i omega t))
+        ratio = _phasor(t[window], data[window, 5], omega) / x_hat
+        hdb = scene.hdb
+        j = int(np.argmin(np.abs(hdb.omega - omega)))
+        assert abs(hdb.omega[j] - omega) < 1e-9
+        a_expected, b_expected = hdb.added_mass[j, 2, 2], hdb.radiation_damping[j, 2, 2]
+        a_got = hdb.added_mass_inf[2, 2] + ratio.real / omega**2
+        b_got = -ratio.imag / omega
+        excitation = _phasor(t[window], data[window, 4], omega) / _phasor(t[window], data[window, 7], omega)
+        x_expected = hdb.excitation[0, j, 2]
+        print(f"omega {omega}: A {a_got:.6g} / {a_expected:.6g}, B {b_got:.6g} / {b_expected:.6g}, "
+              f"X {excitation:.6g} / {x_expected:.6g}")
+        assert a_got == pytest.approx(a_expected, rel=0.01)
+        assert b_got == pytest.approx(b_expected, rel=0.01)
+        assert abs(excitation - x_expected) < 0.01 * abs(x_expected)
