@@ -32,7 +32,7 @@ struct fmu_model {
 
 static fmu_status runtime_error(fmu_instance *instance, const char *what)
 {
-    fmu_log(instance, FMU_ERROR, "logError", "%s at t = %.17g s: %s", what, instance->time,
+    fmu_log(instance, FMU_ERROR, "logError", "%s at t = %.15g s: %s", what, instance->time,
             wec_hydro_last_error(instance->model->hydro));
     return FMU_ERROR;
 }
