@@ -57,6 +57,8 @@ VR_ELEVATION, VR_WORK, VR_CONSTANT = 1, 2, 100
 VR_X, VR_V, VR_F, VR_F0, VR_F0_RATE = 1000, 2000, 3000, 8000, 9000
 VR_ROW = {"F": 3000, "F_exc": 4000, "F_rad": 5000, "F_hs": 6000, "F_visc": 7000}
 VR_DF_DX, VR_DF_DV, VR_A_INF = 100000, 200000, 300000
+VR3 = {"x": 11, "v": 12, "F": 13, "F_exc": 14, "F_rad": 15, "F_hs": 16, "F_visc": 17, "F0": 18, "F0_rate": 19,
+       "dF_dx": 20, "dF_dv": 21, "A_inf": 22, "energy.work": 23}
 WORK_NAMES = ("energy.excitation_work", "energy.radiation_work", "energy.hydrostatic_work", "energy.viscous_work")
 DOF_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
@@ -127,7 +129,8 @@ def source_layout() -> dict[str, Path]:
         files[h.name] = h
     files["cosimulation.h"] = NATIVE / "fmi" / "cosimulation.h"
     files["config.h"] = NATIVE / "fmi" / "hydro" / "config.h"
-    for name in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
+    for name in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "fmi3Functions.h",
+                 "fmi3FunctionTypes.h", "fmi3PlatformTypes.h"):
         files[name] = fmi_headers() / name
     for sub in ("common", "hydro"):
         for f in sorted((NATIVE / "src" / sub).iterdir()):
@@ -135,6 +138,7 @@ def source_layout() -> dict[str, Path]:
                 files[f"src/{sub}/{f.name}"] = f
     files["fmi/cosimulation.c"] = NATIVE / "fmi" / "cosimulation.c"
     files["fmi/fmi2Functions.c"] = NATIVE / "fmi" / "fmi2Functions.c"
+    files["fmi/fmi3Functions.c"] = NATIVE / "fmi" / "fmi3Functions.c"
     files["fmi/model.c"] = NATIVE / "fmi" / "hydro" / "model.c"
     return files
 
@@ -309,6 +313,103 @@ def _model_description(model: HydroModel, arrays: dict, constants: list[FixedVal
     return "\n".join(lines)
 
 
+def _common_unit(units: list[str]) -> str | None:
+    return units[0] if units and all(u == units[0] for u in units) else None
+
+
+def _model_description3(model: HydroModel, arrays: dict, constants: list[FixedValue], token: str, name: str,
+                        description: str, experiment: tuple[float, float, float] | None) -> str:
+    """FMI 3.0 model description: arrays x, v, F, its parts, F0, F0_rate (n), dF_dx, dF_dv, A_inf (n x n)."""
+    bodies, dofs, _ = _labels(model)
+    n = len(dofs)
+    order = ", ".join(f"{b} {('surge', 'sway', 'heave', 'roll', 'pitch', 'yaw')[d]}" for b, d in zip(bodies, dofs,
+                                                                                                       strict=True))
+    nonlinear_fk = bool(arrays["froude_krylov.nonlinear"])
+    force_unit = _common_unit([FORCE_UNITS[d] for d in dofs])
+    rows = {"F": None,
+            "F_exc": ([] if not nonlinear_fk else None) if (arrays["excitation.method"] or nonlinear_fk) else False,
+            "F_rad": [VR3["v"]] if arrays["radiation.method"] else False,
+            "F_hs": [VR3["x"]] if arrays["hydrostatics.method"] else False,
+            "F_visc": [VR3["v"]] if "viscous.linear" in arrays else False}
+    # (name, vr, causality, variability, description, unit, dims, start, dependencies or None = all inputs)
+    variables: list[tuple] = [
+        ("wave.elevation", VR_ELEVATION, "output", "continuous", "incident wave elevation at the origin", "m", (),
+         None, []),
+        ("energy.work", VR3["energy.work"], "output", "continuous", "work of the excitation, radiation, hydrostatic "
+         "and viscous forces on the bodies since the start", "J", (4,), None, None)]
+    for k, c in enumerate(constants):
+        variables.append((c.name, VR_CONSTANT + k, "local", "constant", c.description + " (fixed at build time)",
+                          c.unit, (), c.value, None))
+    variables.append(("x", VR3["x"], "input", "continuous", f"displacements from equilibrium ({order})",
+                      _common_unit([DOF_UNITS[d] for d in dofs]), (n,), 0.0, None))
+    variables.append(("v", VR3["v"], "input", "continuous", f"velocities ({order})",
+                      _common_unit([VEL_UNITS[d] for d in dofs]), (n,), 0.0, None))
+    for row, deps in rows.items():
+        if deps is not False:
+            variables.append((row, VR3[row], "output", "continuous", ROW_TEXT[row], force_unit, (n,), None, deps))
+    variables += [
+        ("F0", VR3["F0"], "output", "continuous", "linearised force: value at zero displacement and velocity",
+         force_unit, (n,), None, None),
+        ("F0_rate", VR3["F0_rate"], "output", "continuous", "linearised force: time rate of F0 over the next step",
+         None, (n,), None, None),
+        ("dF_dx", VR3["dF_dx"], "output", "continuous", "linearised force: derivative with respect to x (row: "
+         "force, column: displacement)", None, (n, n), None, None),
+        ("dF_dv", VR3["dF_dv"], "output", "continuous", "linearised force: derivative with respect to v", None,
+         (n, n), None, None),
+        ("A_inf", VR3["A_inf"], "calculatedParameter", "fixed", "infinite-frequency added mass (for the multibody "
+         "mass matrix)", None, (n, n), None, [])]
+    units = sorted({v[5] for v in variables if v[5]} | {"s"})
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
+             f'<fmiModelDescription fmiVersion="3.0" modelName={quoteattr(name)} instantiationToken="{token}" '
+             f'description={quoteattr(description)} generationTool="wec-cosim (native hydro FMU)" '
+             'variableNamingConvention="structured">',
+             f'  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" canHandleVariableCommunicationStepSize="true" '
+             'canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="true" '
+             'hasEventMode="false" canNotUseMemoryManagementFunctions="true"/>', '  <UnitDefinitions>']
+    for u in units:
+        kg, m, s, rad = UNITS[u]
+        attrs = " ".join(f'{k}="{e}"' for k, e in (("kg", kg), ("m", m), ("s", s), ("rad", rad)) if e)
+        lines.append(f'    <Unit name="{u}"><BaseUnit {attrs}/></Unit>' if attrs else f'    <Unit name="{u}"/>')
+    lines.append('  </UnitDefinitions>')
+    if experiment is not None:
+        start, stop, step = experiment
+        lines.append(f'  <DefaultExperiment startTime="{start!r}" stopTime="{stop!r}" stepSize="{step!r}"/>')
+    lines += ['  <ModelVariables>', '    <Float64 name="time" valueReference="0" causality="independent" '
+              'variability="continuous" description="simulation time" unit="s"/>']
+    for vname, vr, causality, variability, text, unit, dims, start, _ in variables:
+        attrs = f'name={quoteattr(vname)} valueReference="{vr}" causality="{causality}" ' \
+                f'variability="{variability}" description={quoteattr(text)}'
+        if unit:
+            attrs += f' unit="{unit}"'
+        if start is not None:
+            count = int(np.prod(dims)) if dims else 1
+            attrs += ' start="' + " ".join([repr(float(start))] * count) + '"'
+        if dims:
+            inner = "".join(f'<Dimension start="{d}"/>' for d in dims)
+            lines.append(f'    <Float64 {attrs}>{inner}</Float64>')
+        else:
+            lines.append(f'    <Float64 {attrs}/>')
+    lines += ['  </ModelVariables>', '  <ModelStructure>']
+
+    def unknown(tag: str, vr: int, deps: list[int] | None) -> str:
+        if deps is None:
+            deps = [VR3["x"], VR3["v"]]
+        return f'    <{tag} valueReference="{vr}" dependencies="{" ".join(map(str, deps))}"/>' if deps else \
+            f'    <{tag} valueReference="{vr}" dependencies=""/>'
+
+    lines += [unknown("Output", v[1], v[8]) for v in variables if v[2] == "output"]
+    lines += [unknown("InitialUnknown", v[1], v[8]) for v in variables if v[2] in ("output", "calculatedParameter")]
+    lines += ['  </ModelStructure>', '</fmiModelDescription>', '']
+    return "\n".join(lines)
+
+
+def _build_description(sources: list[str]) -> str:
+    files = "\n".join(f'      <SourceFile name="{s}"/>' for s in sources)
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiBuildDescription fmiVersion="3.0">\n'
+            f'  <BuildConfiguration modelIdentifier="{MODEL_IDENTIFIER}">\n    <SourceFileSet language="C11">\n'
+            f'{files}\n    </SourceFileSet>\n  </BuildConfiguration>\n</fmiBuildDescription>\n')
+
+
 def runtime_file(model: HydroModel, token: str, constants: list[FixedValue]) -> bytes:
     """The FMU's ``resources/hydro.wecrt``: the runtime input of ``model`` with the build's token and constants."""
     arrays = dict(runtime_arrays(model))
@@ -319,11 +420,13 @@ def runtime_file(model: HydroModel, token: str, constants: list[FixedValue]) -> 
 
 def build_native_hydro_fmu(model: HydroModel, path: str | os.PathLike, *, constants: list[FixedValue] = (),
                            name: str = "wec_hydro", description: str = "",
-                           experiment: tuple[float, float, float] | None = None) -> Path:
-    """Writes the native FMI 2.0 co-simulation hydro FMU of ``model`` to ``path`` (module docstring); returns the
-    path. ``constants``: values fixed at build time published as constants (e.g. :func:`sea_constants`);
-    ``experiment``: the default experiment (start, stop, step; s). :class:`NativeBuildError` if the sources do not
-    compile."""
+                           experiment: tuple[float, float, float] | None = None, fmi_version: int = 2) -> Path:
+    """Writes the native co-simulation hydro FMU of ``model`` to ``path`` (module docstring), FMI ``fmi_version`` 2
+    or 3; returns the path. ``constants``: values fixed at build time published as constants (e.g.
+    :func:`sea_constants`); ``experiment``: the default experiment (start, stop, step; s). :class:`NativeBuildError`
+    if the sources do not compile."""
+    if fmi_version not in (2, 3):
+        raise ValueError(f"native hydro FMU: FMI version {fmi_version!r} (2 or 3)")
     path = Path(path)
     constants = list(constants)
     arrays = runtime_arrays(model)
@@ -333,14 +436,20 @@ def build_native_hydro_fmu(model: HydroModel, path: str | os.PathLike, *, consta
     layout = source_layout()
     description = description or ("Hydrodynamic forces (Cummins equation) of " + ", ".join(model.bodies)
                                   + ": the wec-cosim compiled runtime, no Python needed")
-    xml = _model_description(model, arrays, constants, token, name, description, experiment, c_sources(layout))
+    if fmi_version == 2:
+        xml = _model_description(model, arrays, constants, token, name, description, experiment, c_sources(layout))
+    else:
+        xml = _model_description3(model, arrays, constants, token, name, description, experiment)
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         (root / "resources").mkdir()
         (root / "resources" / RESOURCE).write_bytes(data)
         (root / "modelDescription.xml").write_text(xml, encoding="utf-8")
         _copy_layout(layout, root / "sources")
-        compile_binary(layout, root / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so")
+        if fmi_version == 3:
+            (root / "sources" / "buildDescription.xml").write_text(_build_description(c_sources(layout)))
+        platform = "linux64" if fmi_version == 2 else "x86_64-linux"
+        compile_binary(layout, root / "binaries" / platform / f"{MODEL_IDENTIFIER}.so")
         path.parent.mkdir(parents=True, exist_ok=True)
         with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
             for f in sorted(root.rglob("*")):

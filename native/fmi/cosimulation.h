@@ -91,6 +91,8 @@ fmu_status model_exit_initialization(fmu_instance *instance);
 /* Scalar float64 access by value reference; FMU_ERROR with a logged reason for an unknown or read-only reference. */
 fmu_status model_get_float64(fmu_instance *instance, uint32_t vr, double *value);
 fmu_status model_set_float64(fmu_instance *instance, uint32_t vr, double value);
+/* FMI 3.0: the scalar references first .. first + count - 1 behind the (array or scalar) variable vr. */
+fmu_status model_float64_elements(fmu_instance *instance, uint32_t vr, uint32_t *first, size_t *count);
 
 /* A regular step from instance->time by h (the clock is moved on by the glue); FMU_ERROR with a logged reason. */
 fmu_status model_do_step(fmu_instance *instance, double h);

@@ -44,6 +44,5 @@
 #define VR3_DF_DV 21u
 #define VR3_A_INF 22u
 #define VR3_WORK 23u
-#define VR3_N 3u                     /* the structural parameter n (uint64) */
 
 #endif

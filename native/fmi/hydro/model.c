@@ -257,6 +257,29 @@ fmu_status model_get_float64(fmu_instance *instance, uint32_t vr, double *value)
     return unknown_reference(instance, vr, "a Real variable");
 }
 
+fmu_status model_float64_elements(fmu_instance *instance, uint32_t vr, uint32_t *first, size_t *count)
+{
+    fmu_model *m = instance->model;
+    size_t n = m->n;
+    static const struct { uint32_t vr3, first; int kind; } arrays[] = {
+        {VR3_X, VR_X, 1},       {VR3_V, VR_V, 1},           {VR3_F, VR_F, 1},         {VR3_F_EXC, VR_F_EXC, 1},
+        {VR3_F_RAD, VR_F_RAD, 1}, {VR3_F_HS, VR_F_HS, 1},     {VR3_F_VISC, VR_F_VISC, 1}, {VR3_F0, VR_F0, 1},
+        {VR3_F0_RATE, VR_F0_RATE, 1}, {VR3_DF_DX, VR_DF_DX, 2}, {VR3_DF_DV, VR_DF_DV, 2}, {VR3_A_INF, VR_A_INF, 2},
+        {VR3_WORK, VR_WORK, 0}};
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
+        if (arrays[k].vr3 == vr) {
+            *first = arrays[k].first;
+            *count = arrays[k].kind == 0 ? WEC_HYDRO_COMPONENTS : arrays[k].kind == 1 ? n : n * n;
+            return FMU_OK;
+        }
+    if (vr == VR_ELEVATION || (vr >= VR_CONSTANT && vr < VR_CONSTANT + m->n_constants)) {
+        *first = vr;
+        *count = 1;
+        return FMU_OK;
+    }
+    return unknown_reference(instance, vr, "a Float64 variable");
+}
+
 fmu_status model_set_float64(fmu_instance *instance, uint32_t vr, double value)
 {
     fmu_model *m = instance->model;
