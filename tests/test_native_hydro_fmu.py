@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import csv
 import os
 import shutil
 import subprocess
@@ -381,3 +382,45 @@ def test_fmi3_forces_equal_the_fmi2_ones_and_its_state_and_derivatives(cylinder3
     for slave in (s2, s3):
         slave.terminate()
         slave.freeInstance()
+
+
+# ---------------------------------------------------------------- OMSimulator's command line
+
+OMSIMULATOR = Path(__file__).resolve().parents[2] / "shared" / "tools" / "omsimulator" / "bin" / "OMSimulator"
+
+
+def _steady_amplitude(t: np.ndarray, x: np.ndarray, omega: float, periods: int = 10) -> float:
+    window = t >= t[-1] - periods * 2 * np.pi / omega
+    return abs(_phasor(t[window], x[window], omega))
+
+
+@pytest.mark.skipif(not OMSIMULATOR.exists(), reason="OMSimulator is not installed in ../shared/tools/omsimulator")
+def test_omsimulator_command_line_runs_the_native_hydro_fmu_with_a_native_body(cylinder, tmp_path) -> None:
+    """Acceptance: OMSimulator's command line, with no Python in its environment (`env -i`), runs an SSP of the
+    native hydro FMU and a small native one-body heave FMU (tests/native_heave_body.py; mass + A_inf + PTO,
+    trapezoidal rule on the linearised force) over 200 s at 0.1 s: the cylinder's steady heave amplitude is within
+    0.5 % of the exact frequency-domain answer from the database,
+    |X| = (H/2) |F_exc(omega)| / |C - omega^2 (m + A(omega)) + i omega (B(omega) + c)|."""
+    from .native_heave_body import build_heave_body_fmu, write_ssp
+
+    scene, hydro = cylinder
+    hdb, spec = scene.hdb, scene.sea_spec()
+    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
+    assert "damping = 2.0e5" in (SCENARIOS / "cylinder_regular.toml").read_text()
+    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    ssp = write_ssp(tmp_path / "cylinder.ssp", hydro, body, "float", 3, 3, STEP, 200.0)
+    result = subprocess.run(["env", "-i", str(OMSIMULATOR), str(ssp), f"--stepSize={STEP!r}", "--stopTime=200",
+                             "--resultFile=out.csv"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert result.returncode == 0 and "0 errors" in result.stdout, result.stdout + result.stderr
+    with open(tmp_path / "out.csv", newline="") as f:
+        header = [h.strip() for h in next(csv.reader(f))]  # quoted: names such as dF_dx[3,3] hold commas
+    data = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
+    t, x = data[:, header.index("time")], data[:, header.index("native_cylinder.root.body.x")]
+    assert t[-1] == pytest.approx(200.0)
+    omega = 2 * np.pi / spec.period
+    a, b, excitation = hdb.interpolate(omega)
+    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
+        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    got = _steady_amplitude(t, x, omega)
+    print(f"OMSimulator steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
+    assert got == pytest.approx(exact, rel=0.005)
