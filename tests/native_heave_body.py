@@ -15,7 +15,8 @@ TOKEN = "{5e1b7c3a-0d2f-4c61-9a0e-7d1f3b2a9c01}"  # native/fmi/heave_body/config
 
 
 def _layout() -> dict[str, Path]:
-    files = {"cosimulation.h": NATIVE / "fmi" / "cosimulation.h", "config.h": NATIVE / "fmi" / "heave_body" / "config.h"}
+    files = {"cosimulation.h": NATIVE / "fmi" / "cosimulation.h",
+             "config.h": NATIVE / "fmi" / "heave_body" / "config.h"}
     for name in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
         files[name] = fmi_headers() / name
     files["fmi/cosimulation.c"] = NATIVE / "fmi" / "cosimulation.c"
@@ -38,13 +39,15 @@ def model_description(mass: float, added_mass: float, damping: float, step: floa
                 f'variability="continuous" description="{text}"><Real unit="{unit}"/></ScalarVariable>')
 
     mass, added_mass, damping = float(mass), float(added_mass), float(damping)
-    variables = [par("mass", 1, mass, "kg", "body mass"), par("A_inf", 2, added_mass, "kg", "infinite-frequency added mass"),
+    variables = [par("mass", 1, mass, "kg", "body mass"),
+                 par("A_inf", 2, added_mass, "kg", "infinite-frequency added mass"),
                  par("pto_damping", 3, damping, "N.s/m", "linear PTO damping"),
                  inp("F0", 10, "linearised hydro force at zero motion"), inp("F0_rate", 11, "its rate"),
                  inp("dF_dx", 12, "its derivative in x"), inp("dF_dv", 13, "its derivative in v"),
                  out("x", 20, "m", "heave displacement"), out("v", 21, "m/s", "heave velocity"),
                  out("pto_power", 22, "W", "power absorbed by the PTO")]
-    units = {"kg": 'kg="1"', "N.s/m": 'kg="1" s="-1"', "m": 'm="1"', "m/s": 'm="1" s="-1"', "W": 'kg="1" m="2" s="-3"'}
+    units = {"kg": 'kg="1"', "N.s/m": 'kg="1" s="-1"', "m": 'm="1"', "m/s": 'm="1" s="-1"',
+             "W": 'kg="1" m="2" s="-3"'}
     return "\n".join([
         '<?xml version="1.0" encoding="UTF-8"?>',
         f'<fmiModelDescription fmiVersion="2.0" modelName="heave_body" guid="{TOKEN}" '
@@ -69,7 +72,8 @@ def build_heave_body_fmu(path: Path, mass: float, added_mass: float, damping: fl
         compile_binary(_layout(), root / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so")
         (root / "modelDescription.xml").write_text(model_description(mass, added_mass, damping, step, stop))
         (root / "resources").mkdir()
-        (root / "resources" / "parameters.txt").write_text(f"{float(mass)!r} {float(added_mass)!r} {float(damping)!r}\n")
+        values = f"{float(mass)!r} {float(added_mass)!r} {float(damping)!r}\n"
+        (root / "resources" / "parameters.txt").write_text(values)
         with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
             for f in sorted(root.rglob("*")):
                 if f.is_file():
@@ -82,11 +86,12 @@ def write_ssp(path: Path, hydro_fmu: Path, body_fmu: Path, body: str, dof: int, 
     """An SSP: the hydro FMU and the heave body, coupled by the linearised force interface, with OMSimulator's
     fixed-step master annotation."""
     hydro_in = [("x", f"{body}.x[{dof}]"), ("v", f"{body}.v[{dof}]")]
-    hydro_out = [(f"{body}.F0[{dof}]", "F0"), (f"{body}.F0_rate[{dof}]", "F0_rate"), (f"dF_dx[{label},{label}]", "dF_dx"),
-                 (f"dF_dv[{label},{label}]", "dF_dv")]
+    hydro_out = [(f"{body}.F0[{dof}]", "F0"), (f"{body}.F0_rate[{dof}]", "F0_rate"),
+                 (f"dF_dx[{label},{label}]", "dF_dx"), (f"dF_dv[{label},{label}]", "dF_dv")]
 
     def connectors(items):
-        return "\n".join(f'          <ssd:Connector name="{n}" kind="{k}"><ssc:Real/></ssd:Connector>' for n, k in items)
+        return "\n".join(f'          <ssd:Connector name="{n}" kind="{k}"><ssc:Real/></ssd:Connector>'
+                         for n, k in items)
 
     hydro_conn = connectors([(h, "input") for _, h in hydro_in] + [(h, "output") for h, _ in hydro_out])
     body_conn = connectors([(b, "input") for _, b in hydro_out] + [(b, "output") for b, _ in hydro_in])

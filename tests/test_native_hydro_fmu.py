@@ -424,3 +424,38 @@ def test_omsimulator_command_line_runs_the_native_hydro_fmu_with_a_native_body(c
     got = _steady_amplitude(t, x, omega)
     print(f"OMSimulator steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
+
+
+def test_c_host_without_python_couples_the_native_hydro_fmu_to_its_own_body(cylinder, tmp_path) -> None:
+    """Acceptance: the plain C host (tests/c_host/jacobi_host.c: fixed step, Jacobi order, zero-order hold, no
+    iteration) under `env -i` couples the native hydro FMU to a native one-body heave integrator (mass + A_inf +
+    PTO) through the linearised force interface: steady heave within 0.5 % of the exact frequency-domain answer."""
+    from .native_heave_body import TOKEN, build_heave_body_fmu
+
+    scene, hydro = cylinder
+    hdb, spec = scene.hdb, scene.sea_spec()
+    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
+    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    host = tmp_path / "jacobi_host"
+    subprocess.run([os.environ.get("CC", "cc"), "-O2", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-Wall", "-Wextra",
+                    "-Werror", f"-I{fmi_headers()}", str(HERE / "c_host" / "jacobi_host.c"), "-o", str(host), "-ldl"],
+                   check=True)
+    hydro_dir, body_dir = _unzip(hydro, tmp_path / "hydro"), _unzip(body, tmp_path / "body")
+    plan = tmp_path / "plan.txt"
+    plan.write_text("\n".join([
+        f"fmu hydro {hydro_dir} {MODEL_IDENTIFIER} {read_model_description(str(hydro)).guid}",
+        f"fmu body {body_dir} wec_heave_body {TOKEN}",
+        "connect body 20 hydro 1000", "connect body 21 hydro 2000",  # x, v (native/fmi/*/config.h)
+        "connect hydro 8000 body 10", "connect hydro 9000 body 11",  # F0, F0_rate
+        "connect hydro 100000 body 12", "connect hydro 200000 body 13",  # dF_dx, dF_dv
+        "record body 20", f"step {STEP!r}", "steps 2000", ""]))
+    out = tmp_path / "out.txt"
+    subprocess.run(["env", "-i", str(host), str(plan), str(out)], check=True, timeout=300)
+    data = np.loadtxt(out)
+    omega = 2 * np.pi / spec.period
+    a, b, excitation = hdb.interpolate(omega)
+    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
+        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    got = _steady_amplitude(data[:, 0], data[:, 1], omega)
+    print(f"C host steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
+    assert got == pytest.approx(exact, rel=0.005)
