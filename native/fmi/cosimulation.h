@@ -34,7 +34,7 @@ struct fmu_instance {
     char name[256];
     char resources[FMU_PATH_SIZE]; /* the resource folder as a plain path, with a trailing '/' */
     fmu_log_function log;          /* set by the FMI glue */
-    void *host_logger;             /* the host's logger and environment, for the glue's log function */
+    void (*host_logger)(void);     /* the host's logger (cast to its FMI type by the glue) and environment */
     void *host_environment;
     int logging_on;
     int fmi_version;               /* 2 or 3 */

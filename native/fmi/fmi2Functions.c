@@ -64,7 +64,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     instance->fmi_version = 2;
     instance->log = host_log2;
     if (functions != NULL) {
-        instance->host_logger = (void *)functions->logger;
+        instance->host_logger = (void (*)(void))functions->logger;
         instance->host_environment = functions->componentEnvironment;
     }
     instance->logging_on = loggingOn ? 1 : 0;

@@ -116,7 +116,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
         return NULL;
     instance->fmi_version = 3;
     instance->log = host_log3;
-    instance->host_logger = (void *)logMessage;
+    instance->host_logger = (void (*)(void))logMessage;
     instance->host_environment = instanceEnvironment;
     instance->logging_on = loggingOn ? 1 : 0;
     snprintf(instance->name, sizeof instance->name, "%s", instanceName != NULL ? instanceName : "");
