@@ -261,6 +261,20 @@ def _variables(model: HydroModel, arrays: dict, constants: list[FixedValue]) -> 
     return out
 
 
+def _units_and_experiment(units: list[str], experiment: tuple[float, float, float] | None) -> list[str]:
+    """The unit definitions' entries and their end, and the default experiment (FMI 2.0 and 3.0 alike)."""
+    lines = []
+    for u in units:
+        kg, m, s, rad = UNITS[u]
+        attrs = " ".join(f'{k}="{e}"' for k, e in (("kg", kg), ("m", m), ("s", s), ("rad", rad)) if e)
+        lines.append(f'    <Unit name="{u}"><BaseUnit {attrs}/></Unit>' if attrs else f'    <Unit name="{u}"/>')
+    lines.append('  </UnitDefinitions>')
+    if experiment is not None:
+        start, stop, step = experiment
+        lines.append(f'  <DefaultExperiment startTime="{start!r}" stopTime="{stop!r}" stepSize="{step!r}"/>')
+    return lines
+
+
 def _model_description(model: HydroModel, arrays: dict, constants: list[FixedValue], guid: str, name: str,
                        description: str, experiment: tuple[float, float, float] | None,
                        sources: list[str]) -> str:
@@ -277,14 +291,7 @@ def _model_description(model: HydroModel, arrays: dict, constants: list[FixedVal
              '    <SourceFiles>']
     lines += [f'      <File name="{s}"/>' for s in sources]
     lines += ['    </SourceFiles>', '  </CoSimulation>', '  <UnitDefinitions>']
-    for u in units:
-        kg, m, s, rad = UNITS[u]
-        attrs = " ".join(f'{k}="{e}"' for k, e in (("kg", kg), ("m", m), ("s", s), ("rad", rad)) if e)
-        lines.append(f'    <Unit name="{u}"><BaseUnit {attrs}/></Unit>' if attrs else f'    <Unit name="{u}"/>')
-    lines.append('  </UnitDefinitions>')
-    if experiment is not None:
-        start, stop, step = experiment
-        lines.append(f'  <DefaultExperiment startTime="{start!r}" stopTime="{stop!r}" stepSize="{step!r}"/>')
+    lines += _units_and_experiment(units, experiment)
     lines.append('  <ModelVariables>')
     for v in variables:
         attrs = f'name={quoteattr(v.name)} valueReference="{v.vr}" causality="{v.causality}" ' \
@@ -366,14 +373,7 @@ def _model_description3(model: HydroModel, arrays: dict, constants: list[FixedVa
              f'  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" canHandleVariableCommunicationStepSize="true" '
              'canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="true" '
              'hasEventMode="false" canNotUseMemoryManagementFunctions="true"/>', '  <UnitDefinitions>']
-    for u in units:
-        kg, m, s, rad = UNITS[u]
-        attrs = " ".join(f'{k}="{e}"' for k, e in (("kg", kg), ("m", m), ("s", s), ("rad", rad)) if e)
-        lines.append(f'    <Unit name="{u}"><BaseUnit {attrs}/></Unit>' if attrs else f'    <Unit name="{u}"/>')
-    lines.append('  </UnitDefinitions>')
-    if experiment is not None:
-        start, stop, step = experiment
-        lines.append(f'  <DefaultExperiment startTime="{start!r}" stopTime="{stop!r}" stepSize="{step!r}"/>')
+    lines += _units_and_experiment(units, experiment)
     lines += ['  <ModelVariables>', '    <Float64 name="time" valueReference="0" causality="independent" '
               'variability="continuous" description="simulation time" unit="s"/>']
     for vname, vr, causality, variability, text, unit, dims, start, _ in variables:
