@@ -84,7 +84,7 @@ def build_heave_body_fmu(path: Path, mass: float, added_mass: float, damping: fl
 def write_ssp(path: Path, hydro_fmu: Path, body_fmu: Path, body: str, dof: int, label: int, step: float,
               stop: float) -> Path:
     """An SSP: the hydro FMU and the heave body, coupled by the linearised force interface, with OMSimulator's
-    fixed-step master annotation."""
+    fixed-step master annotation and OSP's fixed-step algorithm (libcosim)."""
     hydro_in = [("x", f"{body}.x[{dof}]"), ("v", f"{body}.v[{dof}]")]
     hydro_out = [(f"{body}.F0[{dof}]", "F0"), (f"{body}.F0_rate[{dof}]", "F0_rate"),
                  (f"dF_dx[{label},{label}]", "dF_dx"), (f"dF_dv[{label},{label}]", "dF_dv")]
@@ -102,6 +102,7 @@ def write_ssp(path: Path, hydro_fmu: Path, body_fmu: Path, body: str, dof: int, 
 <ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon"
   xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
   xmlns:oms="https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
+  xmlns:osp="http://opensimulationplatform.com/SSP/OSPAnnotations"
   name="native_cylinder" version="1.0">
   <ssd:System name="root">
     <ssd:Elements>
@@ -129,7 +130,13 @@ def write_ssp(path: Path, hydro_fmu: Path, body_fmu: Path, body: str, dof: int, 
       </ssc:Annotation>
     </ssd:Annotations>
   </ssd:System>
-  <ssd:DefaultExperiment startTime="0.0" stopTime="{stop!r}"/>
+  <ssd:DefaultExperiment startTime="0.0" stopTime="{stop!r}">
+    <ssd:Annotations>
+      <ssc:Annotation type="com.opensimulationplatform">
+        <osp:Algorithm><osp:FixedStepAlgorithm baseStepSize="{step!r}"/></osp:Algorithm>
+      </ssc:Annotation>
+    </ssd:Annotations>
+  </ssd:DefaultExperiment>
 </ssd:SystemStructureDescription>
 '''
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:

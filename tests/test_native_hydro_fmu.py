@@ -484,3 +484,32 @@ def test_c_host_without_python_couples_the_native_hydro_fmu_to_its_own_body(cyli
     got = _steady_amplitude(data[:, 0], data[:, 1], omega)
     print(f"C host steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
+
+
+def test_libcosim_runs_the_ssp_without_our_package_numpy_or_scipy(cylinder, tmp_path) -> None:
+    """Acceptance: libcosim (libcosimpy, in an isolated interpreter that imports neither our package nor numpy nor
+    scipy) runs the SSP of the native hydro FMU and the native heave body to the same steady heave (+0.126 % of
+    exact, as the C host and OMSimulator)."""
+    import sys
+
+    from .native_heave_body import build_heave_body_fmu, write_ssp
+
+    scene, hydro = cylinder
+    hdb, spec = scene.hdb, scene.sea_spec()
+    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
+    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    ssp = write_ssp(tmp_path / "cylinder.ssp", hydro, body, "float", 3, 3, STEP, 200.0)
+    folder = _unzip(ssp, tmp_path / "ssp")
+    run = subprocess.run([sys.executable, "-I", str(HERE / "native" / "run_libcosim_ssp.py"), str(folder), "2000",
+                          repr(STEP)], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "loaded: none" in run.stderr
+    data = np.array([[float(v) for v in line.split()[1:]] for line in run.stdout.splitlines() if line.startswith("@ ")])
+    assert len(data) == 2000 and data[-1, 0] == pytest.approx(200.0)
+    omega = 2 * np.pi / spec.period
+    a, b, excitation = hdb.interpolate(omega)
+    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
+        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    got = _steady_amplitude(data[:, 0], data[:, 1], omega)
+    print(f"libcosim steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
+    assert got == pytest.approx(exact, rel=0.005)
