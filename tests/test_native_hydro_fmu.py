@@ -513,3 +513,21 @@ def test_libcosim_runs_the_ssp_without_our_package_numpy_or_scipy(cylinder, tmp_
     got = _steady_amplitude(data[:, 0], data[:, 1], omega)
     print(f"libcosim steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="fmpy builds source FMUs with cmake")
+def test_fmpy_builds_a_working_fmi3_binary_from_the_build_description(cylinder3, tmp_path) -> None:
+    from fmpy import simulate_fmu
+    from fmpy.build import build_platform_binary
+
+    _, _, fmu3 = cylinder3
+    shipped = simulate_fmu(str(_unzip(fmu3, tmp_path / "shipped")), stop_time=30.0, step_size=STEP, output=["F"])
+    rebuilt = _unzip(fmu3, tmp_path / "rebuilt")
+    shutil.rmtree(rebuilt / "binaries")
+    (tmp_path / "build").mkdir()
+    build_platform_binary(rebuilt, build_dir=tmp_path / "build")
+    again = simulate_fmu(str(rebuilt), stop_time=30.0, step_size=STEP, output=["F"])
+    forces = np.asarray(shipped["F"], dtype=float).ravel()
+    assert np.abs(forces).max() > 1e4
+    np.testing.assert_allclose(np.asarray(again["F"], dtype=float).ravel(), forces, rtol=1e-12,
+                               atol=1e-12 * np.abs(forces).max())
