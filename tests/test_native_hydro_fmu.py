@@ -531,3 +531,24 @@ def test_fmpy_builds_a_working_fmi3_binary_from_the_build_description(cylinder3,
     assert np.abs(forces).max() > 1e4
     np.testing.assert_allclose(np.asarray(again["F"], dtype=float).ravel(), forces, rtol=1e-12,
                                atol=1e-12 * np.abs(forces).max())
+
+
+def _wec_cosim(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "wec_cosim.cli", *args], capture_output=True, text=True,
+                          cwd=HERE.parent, env=env or os.environ.copy(), timeout=600)
+
+
+def test_build_fmus_writes_the_native_fmus_and_names_a_missing_compiler(tmp_path) -> None:
+    scenario = str(SCENARIOS / "cylinder_regular.toml")
+    proc = _wec_cosim("build-fmus", scenario, "--out", str(tmp_path), "--native")
+    assert proc.returncode == 0, proc.stderr
+    for version in (2, 3):
+        fmu = tmp_path / f"cylinder_regular_hydro_native_fmi{version}.fmu"
+        assert validate_fmu(str(fmu)) == []
+        assert read_model_description(str(fmu)).fmiVersion == f"{version}.0"
+    env = dict(os.environ, CC="/nonexistent/cc")
+    proc = _wec_cosim("build-fmus", scenario, "--out", str(tmp_path / "again"), "--native", env=env)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "no C compiler ('/nonexistent/cc' is not on PATH)" in proc.stderr
