@@ -419,6 +419,26 @@ def _steady_amplitude(t: np.ndarray, x: np.ndarray, omega: float, periods: int =
     return abs(_phasor(t[window], x[window], omega))
 
 
+PTO_DAMPING = 2.0e5  # N s/m, cylinder_regular.toml
+
+
+def _body_and_exact(scene, tmp_path: Path) -> tuple[Path, float]:
+    """The native heave body of the cylinder (displaced mass, A_inf and PTO of the scenario) and the exact steady
+    heave amplitude, |X| = (H/2) |F_exc(omega)| / |C - omega^2 (m + A(omega)) + i omega (B(omega) + c)|, from the
+    database (linear interpolation in frequency, as the hydro model)."""
+    from .native_heave_body import build_heave_body_fmu
+
+    hdb, spec = scene.hdb, scene.sea_spec()
+    assert "damping = 2.0e5" in (SCENARIOS / "cylinder_regular.toml").read_text()
+    mass, c33 = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2]
+    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], PTO_DAMPING, STEP, 200.0)
+    omega = 2 * np.pi / spec.period
+    a, b, excitation = hdb.interpolate(omega)
+    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
+        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + PTO_DAMPING))
+    return body, exact
+
+
 @pytest.mark.skipif(not OMSIMULATOR.exists(), reason="OMSimulator is not installed in ../shared/tools/omsimulator")
 def test_omsimulator_command_line_runs_the_native_hydro_fmu_with_a_native_body(cylinder, tmp_path) -> None:
     """Acceptance: OMSimulator's command line, with no Python in its environment (`env -i`), runs an SSP of the
@@ -426,13 +446,10 @@ def test_omsimulator_command_line_runs_the_native_hydro_fmu_with_a_native_body(c
     trapezoidal rule on the linearised force) over 200 s at 0.1 s: the cylinder's steady heave amplitude is within
     0.5 % of the exact frequency-domain answer from the database,
     |X| = (H/2) |F_exc(omega)| / |C - omega^2 (m + A(omega)) + i omega (B(omega) + c)|."""
-    from .native_heave_body import build_heave_body_fmu, write_ssp
+    from .native_heave_body import write_ssp
 
     scene, hydro = cylinder
-    hdb, spec = scene.hdb, scene.sea_spec()
-    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
-    assert "damping = 2.0e5" in (SCENARIOS / "cylinder_regular.toml").read_text()
-    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    body, exact = _body_and_exact(scene, tmp_path)
     ssp = write_ssp(tmp_path / "cylinder.ssp", hydro, body, "float", 3, 3, STEP, 200.0)
     result = subprocess.run(["env", "-i", str(OMSIMULATOR), str(ssp), f"--stepSize={STEP!r}", "--stopTime=200",
                              "--resultFile=out.csv"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
@@ -442,10 +459,7 @@ def test_omsimulator_command_line_runs_the_native_hydro_fmu_with_a_native_body(c
     data = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
     t, x = data[:, header.index("time")], data[:, header.index("native_cylinder.root.body.x")]
     assert t[-1] == pytest.approx(200.0)
-    omega = 2 * np.pi / spec.period
-    a, b, excitation = hdb.interpolate(omega)
-    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
-        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    omega = 2 * np.pi / scene.sea_spec().period
     got = _steady_amplitude(t, x, omega)
     print(f"OMSimulator steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
@@ -455,12 +469,10 @@ def test_c_host_without_python_couples_the_native_hydro_fmu_to_its_own_body(cyli
     """Acceptance: the plain C host (tests/c_host/jacobi_host.c: fixed step, Jacobi order, zero-order hold, no
     iteration) under `env -i` couples the native hydro FMU to a native one-body heave integrator (mass + A_inf +
     PTO) through the linearised force interface: steady heave within 0.5 % of the exact frequency-domain answer."""
-    from .native_heave_body import TOKEN, build_heave_body_fmu
+    from .native_heave_body import TOKEN
 
     scene, hydro = cylinder
-    hdb, spec = scene.hdb, scene.sea_spec()
-    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
-    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    body, exact = _body_and_exact(scene, tmp_path)
     host = tmp_path / "jacobi_host"
     subprocess.run([os.environ.get("CC", "cc"), "-O2", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-Wall", "-Wextra",
                     "-Werror", f"-I{fmi_headers()}", str(HERE / "c_host" / "jacobi_host.c"), "-o", str(host), "-ldl"],
@@ -477,10 +489,7 @@ def test_c_host_without_python_couples_the_native_hydro_fmu_to_its_own_body(cyli
     out = tmp_path / "out.txt"
     subprocess.run(["env", "-i", str(host), str(plan), str(out)], check=True, timeout=300)
     data = np.loadtxt(out)
-    omega = 2 * np.pi / spec.period
-    a, b, excitation = hdb.interpolate(omega)
-    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
-        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    omega = 2 * np.pi / scene.sea_spec().period
     got = _steady_amplitude(data[:, 0], data[:, 1], omega)
     print(f"C host steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
@@ -492,12 +501,10 @@ def test_libcosim_runs_the_ssp_without_our_package_numpy_or_scipy(cylinder, tmp_
     exact, as the C host and OMSimulator)."""
     import sys
 
-    from .native_heave_body import build_heave_body_fmu, write_ssp
+    from .native_heave_body import write_ssp
 
     scene, hydro = cylinder
-    hdb, spec = scene.hdb, scene.sea_spec()
-    mass, c33, damping = hdb.rho * hdb.displaced_volume[0], hdb.hydrostatic_stiffness[0, 2, 2], 2.0e5
-    body = build_heave_body_fmu(tmp_path / "body.fmu", mass, hdb.added_mass_inf[2, 2], damping, STEP, 200.0)
+    body, exact = _body_and_exact(scene, tmp_path)
     ssp = write_ssp(tmp_path / "cylinder.ssp", hydro, body, "float", 3, 3, STEP, 200.0)
     folder = _unzip(ssp, tmp_path / "ssp")
     run = subprocess.run([sys.executable, "-I", str(HERE / "native" / "run_libcosim_ssp.py"), str(folder), "2000",
@@ -506,10 +513,7 @@ def test_libcosim_runs_the_ssp_without_our_package_numpy_or_scipy(cylinder, tmp_
     assert "loaded: none" in run.stderr
     data = np.array([[float(v) for v in line.split()[1:]] for line in run.stdout.splitlines() if line.startswith("@ ")])
     assert len(data) == 2000 and data[-1, 0] == pytest.approx(200.0)
-    omega = 2 * np.pi / spec.period
-    a, b, excitation = hdb.interpolate(omega)
-    exact = spec.height / 2 * abs(excitation[0, 2]) / abs(
-        c33 - omega**2 * (mass + a[0, 2, 2]) + 1j * omega * (b[0, 2, 2] + damping))
+    omega = 2 * np.pi / scene.sea_spec().period
     got = _steady_amplitude(data[:, 0], data[:, 1], omega)
     print(f"libcosim steady heave {got:.6g} m, exact {exact:.6g} m ({(got / exact - 1) * 100:+.3f} %)")
     assert got == pytest.approx(exact, rel=0.005)
