@@ -556,3 +556,42 @@ def test_build_fmus_writes_the_native_fmus_and_names_a_missing_compiler(tmp_path
     proc = _wec_cosim("build-fmus", scenario, "--out", str(tmp_path / "again"), "--native", env=env)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "no C compiler ('/nonexistent/cc' is not on PATH)" in proc.stderr
+
+
+def test_damaged_resources_or_a_wrong_guid_fail_instantiate_with_a_message(cylinder, tmp_path) -> None:
+    """Damaged runtime input (truncated, bytes flipped, a missing file) or a GUID from another build: the C host's
+    fmi2Instantiate returns NULL with the reason logged, in a separate process that must not crash (exit status 1,
+    not a signal)."""
+    _, fmu = cylinder
+    host = _host(tmp_path)
+    guid = read_model_description(str(fmu)).guid
+    original = (_unzip(fmu, tmp_path / "original") / "resources" / RESOURCE).read_bytes()
+    rng = np.random.default_rng(7)
+    cases = {"truncated": original[: len(original) // 2], "empty": b"", "header only": original[:48]}
+    for k in range(12):
+        damaged = bytearray(original)
+        for position in rng.integers(0, 48 + 128 * 4, size=3):  # the header and the first directory entries
+            damaged[position] ^= 0xFF
+        cases[f"flipped {k}"] = bytes(damaged)
+    cases["missing"] = None
+    cases["wrong guid"] = original
+    for name, data in cases.items():
+        folder = _unzip(fmu, tmp_path / name.replace(" ", "_"))
+        target = folder / "resources" / RESOURCE
+        if data is None:
+            target.unlink()
+        else:
+            target.write_bytes(data)
+        token = "{00000000-0000-0000-0000-000000000000}" if name == "wrong guid" else guid
+        run = subprocess.run(["env", "-i", str(host), str(folder), token, "0", "0.1", "1.0", repr(STEP), "10",
+                              str(tmp_path / "out.txt")], capture_output=True, text=True, timeout=60)
+        if data == original and name != "wrong guid":
+            continue
+        assert run.returncode == 1, (name, run.returncode, run.stderr)  # a signal would be negative
+        assert "[hydro 3 logError]" in run.stderr, (name, run.stderr)
+        if name == "wrong guid":
+            assert "does not match this FMU's resources" in run.stderr
+        elif name == "missing":
+            assert "cannot open" in run.stderr
+        else:
+            assert "refused" in run.stderr or "resources/hydro.wecrt" in run.stderr, (name, run.stderr)
