@@ -595,3 +595,39 @@ def test_damaged_resources_or_a_wrong_guid_fail_instantiate_with_a_message(cylin
             assert "cannot open" in run.stderr
         else:
             assert "refused" in run.stderr or "resources/hydro.wecrt" in run.stderr, (name, run.stderr)
+
+
+@pytest.mark.slow
+def test_fmu_glue_under_address_and_undefined_behaviour_sanitizers(cylinder, tmp_path) -> None:
+    """The FMU's own sources/ and the C host built with -fsanitize=address,undefined: a regular forced run and the
+    damaged-resource cases run clean (no invalid access, leak or undefined behaviour; the sanitizers' exit status
+    is 86 and would fail the test)."""
+    _, fmu = cylinder
+    cc = os.environ.get("CC", "cc")
+    flags = ["-std=c11", "-g", "-O1", "-fno-omit-frame-pointer", "-fsanitize=address,undefined",
+             "-fno-sanitize-recover=all"]
+    folder = _unzip(fmu, tmp_path / "fmu")
+    sources = folder / "sources"
+    library = folder / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so"
+    c_files = [str(p) for p in sorted(sources.rglob("*.c"))]
+    subprocess.run([cc, *flags, "-fPIC", "-shared", f"-I{sources}", *c_files, "-o", str(library), "-lm"], check=True)
+    host = tmp_path / "host_asan"
+    subprocess.run([cc, *flags, f"-I{fmi_headers()}", str(HERE / "native" / "forced_motion_host.c"), "-o", str(host),
+                    "-ldl", "-lm"], check=True)
+    env = {"ASAN_OPTIONS": "detect_leaks=1:exitcode=86", "UBSAN_OPTIONS": "halt_on_error=1:exitcode=86"}
+    guid = read_model_description(str(fmu)).guid
+    good = subprocess.run([str(host), str(folder), guid, "0", "0.2", "1.12", repr(STEP), "600",
+                           str(tmp_path / "out.txt")], capture_output=True, text=True, env=env, timeout=600)
+    assert good.returncode == 0, good.stderr[-3000:]
+    original = (folder / "resources" / RESOURCE).read_bytes()
+    rng = np.random.default_rng(11)
+    for k in range(20):
+        damaged = bytearray(original[: int(rng.integers(0, len(original)))] if k % 4 == 0 else original)
+        for position in rng.integers(0, min(len(damaged), 48 + 128 * 6) or 1, size=3):
+            if damaged:
+                damaged[position] ^= int(rng.integers(1, 256))
+        (folder / "resources" / RESOURCE).write_bytes(bytes(damaged))
+        run = subprocess.run([str(host), str(folder), guid, "0", "0.2", "1.12", repr(STEP), "20",
+                              str(tmp_path / "out.txt")], capture_output=True, text=True, env=env, timeout=120)
+        assert run.returncode in (0, 1), (k, run.returncode, run.stderr[-3000:])
+        assert run.returncode == 0 or "logError" in run.stderr
