@@ -8,7 +8,7 @@ compiled), the next ``--rounds`` runs of the two trees alternate with warm cache
 process (and its user + system CPU seconds, steadier on a shared machine), medians and the ratio before / after.
 Not a timed assertion anywhere: the load is in the header and footer.
 
-    python benchmarks/bench_quick_start.py --out benchmarks/results/quick_start.txt   (about 5-10 minutes)
+    python benchmarks/bench_quick_start.py --rounds 7 --out benchmarks/results/quick_start.txt   (about 3 minutes)
 """
 
 from __future__ import annotations
@@ -51,7 +51,8 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     args = parser.parse_args()
     uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    lines = [*report_header("bench_quick_start.py"), f"# lscpu model name: {cpu_model()}", f"# uptime at start: {uptime}",
+    lines = [*report_header("bench_quick_start.py"), f"# lscpu model name: {cpu_model()}",
+             f"# uptime at start: {uptime}",
              f"# `wec-cosim run {SCENARIO}` in a child process; before: revision {BEFORE} (numba hydro pass), after: "
              "this tree (compiled hydro runtime); each tree its own cache, cold first run, then "
              f"{args.rounds} alternating warm runs", ""]

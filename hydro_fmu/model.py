@@ -371,6 +371,9 @@ class HydroModel:
     def __setstate__(self, state: dict) -> None:
         if "runtime" not in vars(self):
             raise ValueError("a hydro model state is loaded into a model built from the same scene, not on its own")
+        if not isinstance(state, dict) or not isinstance(state.get("runtime"), bytes):
+            raise ValueError("not a hydro model state of the compiled runtime (a state saved by an earlier version of "
+                             "the toolkit cannot be loaded: run again from the start)")
         self.runtime.load_state(state["runtime"])
         self._start_time = float(state["start_time"])
 
