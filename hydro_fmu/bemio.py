@@ -19,6 +19,15 @@ Layout, as seen from h5py (row-major; WEC-Sim's MATLAB writer produces the same 
 
 Normalisations are those of WEC-Sim's ``normalizeBEM``; reading undoes them. Complex
 amplitudes use WEC-Sim's ``exp(+i omega t)`` convention, as :mod:`hydro_fmu.hdb` does.
+
+Both BEMIO writers are read: the MATLAB ``writeBEMIOH5`` (scalars stored as (1, 1), vectors as (N, 1),
+strings as variable-length arrays, attributes ``units``) and the older Python ``bemio`` ``write_hdf5``
+(no ``dof``/``dof_start``/``dof_end``, ``water_depth`` may be the string ``infinite``, extra
+``components`` groups, which are ignored). The ``froude-krylov`` and ``scattering`` parts are optional: a
+file without them, or with NaN in them (BEMIO fills them with NaN when the BEM run did not compute them),
+reads without them, and ``extra["excitation_parts"]`` says why; a scene that needs them says so then. The
+impulse-response and state-space groups (:mod:`hydro_fmu.bemio_groups`) are optional too, and written
+on request (``write_bemio(..., wec_sim_groups=True)``).
 """
 
 from __future__ import annotations
@@ -30,10 +39,19 @@ import numpy as np
 
 from .hdb import HydroDatabase, HydroDatabaseError
 
+EXCITATION_PARTS = "excitation_parts"  # HydroDatabase.extra key: why the Froude-Krylov/diffraction parts are absent
 
-def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "") -> Path:
-    """Write ``hdb`` as a BEMIO HDF5 file; returns the path."""
+
+def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "", *, wec_sim_groups: bool = False) -> Path:
+    """Write ``hdb`` as a BEMIO HDF5 file; returns the path. ``wec_sim_groups``: add the radiation impulse
+    response, its per-entry state-space realisation and the excitation impulse response that WEC-Sim's body class
+    reads (:mod:`hydro_fmu.bemio_groups`; a few seconds of fitting)."""
     path = Path(path)
+    realisation = None
+    if wec_sim_groups:
+        from .bemio_groups import realise
+
+        realisation = realise(hdb)
     path.parent.mkdir(parents=True, exist_ok=True)
     rho, g, w = hdb.rho, hdb.g, hdb.omega
     n = hdb.n_dofs
@@ -78,6 +96,10 @@ def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "") -> Path:
             if hdb.diffraction is not None:
                 _write_complex(ex.create_group("scattering"), hdb.diffraction[:, :, rows], rho * g,
                                "Scattering (diffraction) force")
+            if realisation is not None:
+                from .bemio_groups import write_radiation_groups
+
+                write_radiation_groups(hc, hdb, rows, realisation, _dataset)
         assert n == 6 * hdb.n_bodies
     return path
 
@@ -93,6 +115,18 @@ def read_bemio(path: str | Path) -> HydroDatabase:
         raise HydroDatabaseError(f"{path} is not a readable HDF5 file ({exc})") from None
     with f:
         return _read(f, path)
+
+
+def read_wec_sim_groups(path: str | Path):
+    """The impulse-response and state-space groups of a BEMIO file, SI units
+    (:class:`hydro_fmu.bemio_groups.RadiationGroups`; fields None where the file has no such group)."""
+    from .bemio_groups import read_radiation_groups
+
+    hdb = read_bemio(path)
+    with h5py.File(path, "r") as f:
+        bodies = sorted((k for k in f if k.startswith("body") and k[4:].isdigit()), key=lambda k: int(k[4:]))
+        return read_radiation_groups(f, bodies, hdb.n_dofs, len(hdb.headings), hdb.rho, hdb.g,
+                                     lambda value, shape, what: _shaped(value, shape, Path(path), what))
 
 
 def _read(f: h5py.File, path: Path) -> HydroDatabase:
@@ -120,7 +154,7 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
     X = np.zeros((nh, nw, n), complex)
     FK = np.zeros((nh, nw, n), complex)
     DF = np.zeros((nh, nw, n), complex)
-    have_parts = True
+    parts_note = ""
     C = np.zeros((nb, 6, 6))
     cg, cb, vol, names = np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), []
     for b, key in enumerate(bodies):
@@ -131,9 +165,7 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
             raise HydroDatabaseError(
                 f"{path}: {key} has {dof} degrees of freedom; only rigid bodies (6) are supported"
             )
-        name = need(props, "name")
-        name = name.item() if hasattr(name, "item") else name
-        name = name.decode() if isinstance(name, bytes) else str(name)
+        name = _text(need(props, "name"))
         names.append(name if name not in names else f"{name}_{b + 1}")
         cg[b] = need(props, "cg").ravel()[:3]
         cb[b] = need(props, "cb").ravel()[:3]
@@ -148,16 +180,19 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
             (2, 0, 1)) * rho * w[:, None, None]
         ex = hc["excitation"]
         X[:, :, rows] = _read_complex(ex, path, key, (6, nh, nw)) * rho * g
-        if "froude-krylov" in ex and "scattering" in ex:
-            FK[:, :, rows] = _read_complex(ex["froude-krylov"], path, key, (6, nh, nw)) * rho * g
-            DF[:, :, rows] = _read_complex(ex["scattering"], path, key, (6, nh, nw)) * rho * g
-        else:
-            have_parts = False
+        for part, table in (("froude-krylov", FK), ("scattering", DF)):
+            if part not in ex or "re" not in ex[part]:
+                parts_note = parts_note or f"{path} has no {ex.name}/{part} group"
+                continue
+            table[:, :, rows] = _read_complex(ex[part], path, key, (6, nh, nw)) * rho * g
+            bad = int(np.sum(~np.isfinite(table[:, :, rows])))
+            if bad:
+                parts_note = parts_note or (f"{path}: {ex.name}/{part} has {bad} non-finite values (BEMIO writes NaN "
+                                            "where the BEM run did not compute a part)")
     order = np.argsort(w)
     code = ""
     if "bem_data" in f and "code" in f["bem_data"]:
-        raw = f["bem_data"]["code"][()]
-        code = raw.decode() if isinstance(raw, bytes) else str(raw)
+        code = _text(f["bem_data"]["code"][()])
     return HydroDatabase(
         body_names=names,
         omega=w[order],
@@ -166,8 +201,8 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
         added_mass_inf=Ainf,
         headings=headings,
         excitation=X[:, order],
-        froude_krylov=FK[:, order] if have_parts else None,
-        diffraction=DF[:, order] if have_parts else None,
+        froude_krylov=None if parts_note else FK[:, order],
+        diffraction=None if parts_note else DF[:, order],
         hydrostatic_stiffness=C,
         cg=cg,
         cb=cb,
@@ -176,6 +211,7 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
         g=g,
         water_depth=float(depth),
         source=f"{path}" + (f" ({code})" if code else ""),
+        extra={EXCITATION_PARTS: parts_note} if parts_note else {},
     )
 
 
@@ -215,10 +251,21 @@ def _shaped(value: np.ndarray, shape: tuple[int, ...], path: Path, what: str) ->
     raise HydroDatabaseError(f"{path}: {what} has shape {value.shape}, expected {shape}")
 
 
+def _text(value: object) -> str:
+    """A string dataset's value: h5py gives bytes, str or an array of either (MATLAB writes (1, 1) arrays)."""
+    arr = np.asarray(value)
+    if arr.ndim and arr.size:
+        value = arr.ravel()[0]
+    elif arr.ndim == 0:
+        value = arr.item() if arr.dtype.kind != "O" else arr[()]
+    if isinstance(value, bytes):
+        value = value.decode(errors="replace")
+    return str(value).strip().rstrip("\x00")
+
+
 def _scalar(value: np.ndarray) -> float:
     arr = np.asarray(value)
     if arr.dtype.kind in "SUO":
-        text = arr.ravel()[0]
-        text = text.decode() if isinstance(text, bytes) else str(text)
-        return float("inf") if text.strip().lower() in ("inf", "infinite") else float(text)
+        text = _text(arr)
+        return float("inf") if text.lower() in ("inf", "infinite") else float(text)
     return float(arr.ravel()[0])

@@ -493,27 +493,3 @@ class StateSpaceMemory:
         self.w[r : r + n] = v_now
         self.pending = float(h)
 
-
-class CombinedMemory:
-    """The state-space memory of the fitted blocks plus the trapezoidal convolution of the blocks left to it
-    (:attr:`StateSpaceFit.convolution_blocks`): mu = C z + sum_j K_c(j dt) v(t - j dt) w_j, K_c the kernel on
-    those blocks only. Same use as :class:`StateSpaceMemory` and :class:`hydro_fmu.radiation.RadiationMemory`
-    (steps: whole multiples of the convolution's ``dt``)."""
-
-    def __init__(self, state_space: StateSpaceMemory, convolution) -> None:  # noqa: ANN001 - RadiationMemory
-        self.state_space = state_space
-        self.convolution = convolution
-        self._part = np.zeros(state_space.n)
-
-    def force(self, v_now: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
-        total = self.state_space.force(v_now, out=out)
-        self.convolution.force(v_now, out=self._part)
-        total += self._part
-        return total
-
-    def instantaneous_damping(self) -> np.ndarray:
-        return self.state_space.instantaneous_damping() + self.convolution.instantaneous_damping()
-
-    def step(self, v_now: np.ndarray, h: float) -> None:
-        self.convolution.step(v_now, h)
-        self.state_space.step(v_now, h)

@@ -228,12 +228,22 @@ class _Instance:
 class MoorDynSystem:
     """All MoorDyn lines of a model, stepped together (module docstring)."""
 
-    def __init__(self, lines: list[LineSpec], settings: MoorDynSettings) -> None:
+    def __init__(self, lines: list[LineSpec], settings: MoorDynSettings, *, file_text: str = "",
+                 bodies: np.ndarray | None = None, offsets: np.ndarray | None = None) -> None:
+        """``lines``: one line per :class:`LineSpec` (its fairlead a coupled point, the input file written here);
+        or, with ``file_text``, a user's MoorDyn input file whose coupled points (in ID order) are attached to
+        ``bodies`` (n,) at ``offsets`` (n, 3) from their cgs (body axes); ``lines`` is then empty."""
         self.lines = list(lines)
         self.settings = settings
-        n = len(lines)
-        self.offsets = np.array([ln.offset for ln in lines], float).reshape(n, 3)
-        self.bodies = np.array([ln.body for ln in lines], dtype=int)
+        self.file_text = file_text
+        if file_text:
+            self.offsets = np.asarray(offsets, float).reshape(-1, 3)
+            self.bodies = np.asarray(bodies, dtype=int)
+        else:
+            self.offsets = np.array([ln.offset for ln in lines], float).reshape(len(lines), 3)
+            self.bodies = np.array([ln.body for ln in lines], dtype=int)
+        n = len(self.bodies)
+        self.end_tensions = np.zeros((0, 2))  # tension at end A and end B of every line (N), last accepted state
         self.text = ""
         self.t = math.nan  # time of the last accepted state
         self.t_prev = math.nan
@@ -260,13 +270,14 @@ class MoorDynSystem:
         if self.started:
             return
         x, _ = self.fairleads(k)
-        self.text = moordyn_input(self.lines, self.settings, x)
+        self.text = self.file_text or moordyn_input(self.lines, self.settings, x)
         instance = _Instance(self.text, x.ravel(), np.zeros(x.size), compute_ic=True)
         self._adopt(instance)
         self.x = x
         self.t = self.t_prev = float(k.t)
         self.v = np.zeros_like(x)
         self.force = self.force_prev = self._step(x, self.v, self.t, 0.0)
+        self.end_tensions = self._end_tensions()
 
     # ------------------------------------------------------------------ forces
     def force_at(self, line: int, t: float) -> np.ndarray:
@@ -298,6 +309,7 @@ class MoorDynSystem:
         self.force_prev, self.force = self.force, force
         self.t_prev, self.t = self.t, float(k.t)
         self.x, self.v = x1, v1
+        self.end_tensions = self._end_tensions()
 
     def _step(self, x: np.ndarray, v: np.ndarray, t: float, h: float) -> np.ndarray:
         import moordyn
@@ -308,7 +320,16 @@ class MoorDynSystem:
         except RuntimeError as exc:
             detail = _tail(instance.log)
             raise MoorDynError(f"MoorDyn failed at t = {t:g} s: {exc}" + (f" ({detail})" if detail else "")) from None
-        return np.asarray(f, float).reshape(len(self.lines), 3)
+        return np.asarray(f, float).reshape(len(self.bodies), 3)
+
+    def _end_tensions(self) -> np.ndarray:
+        """(n_lines, 2): tension at end A and end B of every line (N; MoorDyn's anchor and fairlead ends)."""
+        import moordyn
+
+        system = self._active().system
+        n = moordyn.GetNumberLines(system)
+        fh, fv, ah, av = (np.asarray(v, float) for v in moordyn.GetFASTtens(system, n))
+        return np.column_stack([np.hypot(ah, av), np.hypot(fh, fv)])
 
     def tensions(self) -> np.ndarray:
         """Fairlead tension of each line at the last accepted state (N)."""
@@ -352,7 +373,7 @@ class MoorDynSystem:
     def __deepcopy__(self, memo: dict) -> MoorDynSystem:
         new = copy.copy(self)
         memo[id(self)] = new
-        for key in ("x", "v", "force", "force_prev"):
+        for key in ("x", "v", "force", "force_prev", "end_tensions"):
             setattr(new, key, getattr(self, key).copy())
         new._snapshot = self.serialized()
         return new
@@ -371,6 +392,8 @@ class MoorDynSystem:
         instance is kept and the state loaded into it when this object is used; otherwise a new instance is
         created then."""
         state = dict(state)
+        state.setdefault("file_text", "")  # states saved before MoorDyn input files were read
+        state.setdefault("end_tensions", np.zeros((0, 2)))
         snapshot = bytes(np.asarray(state.pop("moordyn_state"), dtype=np.uint8))
         state["lines"] = [LineSpec(**d) for d in state["lines"]]
         state["settings"] = MoorDynSettings(**state["settings"])
@@ -416,3 +439,24 @@ class MoorDynLine(ForceElement):
 
     def commit(self, k: Kin) -> None:
         self.system.advance(k)
+
+
+@dataclass
+class MoorDynTensions(ForceElement):
+    """The tension at both ends of every line of a :class:`MoorDynSystem` as outputs (no force of its own):
+    ``[A_1, B_1, A_2, B_2, ...]`` (N), end A and end B of each line in the input file's order, at the last
+    accepted state."""
+
+    name: str
+    system: MoorDynSystem
+    n_lines: int
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        return None
+
+    def output(self, k: Kin) -> np.ndarray:
+        if not self.system.started:
+            self.system.start(k)
+        values = self.system.end_tensions.ravel()
+        return values if len(values) == 2 * self.n_lines else np.zeros(2 * self.n_lines)
+

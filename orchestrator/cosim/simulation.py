@@ -8,6 +8,7 @@ import os
 import platform
 import time
 import typing
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -85,6 +86,7 @@ class RunResult:
     error_estimate: error_estimate.ErrorEstimate | None = None
     step_choice: step_choice.StepChoice | None = None  # simulation.error_tolerance's runs
     setup_time: float = math.nan  # s of wall time before the first step: scene, FMUs (build, compile), initialisation
+    radiation_check: Callable[[], str] | None = None  # the impulse-response check's summary text, when printed
 
     @property
     def real_time_factor(self) -> float:
@@ -224,34 +226,32 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
 
 
 # CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
-# kernels in benchmarks/results/first_run.txt (146-164 s), the hydrodynamic ones and the null-space ones in
-# benchmarks/results/first_run_notice.txt (a cold cylinder run 12.8 s of CPU against 5.0 s warm; a cold
-# null-space hinge-barge run 195 s in all).
-COMPILE_SECONDS = {("hydro_fmu", "kernels"): 8.0, ("mbd_fmu", "kernels"): 155.0,
-                   ("mbd_fmu", "nullspace_kernels"): 35.0}
+# kernels in benchmarks/results/first_run.txt (146-164 s), the null-space ones in
+# benchmarks/results/first_run_notice.txt (a cold null-space hinge-barge run 195 s in all). The hydrodynamics needs
+# none: it runs on the compiled runtime built at install (docs/runtime.md), so a linear scene compiles nothing at its
+# first run.
+COMPILE_SECONDS = {("mbd_fmu", "kernels"): 155.0, ("mbd_fmu", "nullspace_kernels"): 35.0}
 
 
 def compile_notice(scene: Scene) -> str | None:
     """A line to show before the FMUs start when their compiled kernels are not in the cache yet (the first run
-    of this version of the sources): which, how long it takes, and where the result is kept; None when warm."""
-    import hydro_fmu
+    of this version of the sources): which, how long it takes, and where the result is kept; None when warm or when
+    the scene needs no kernel (the linear model: the hydrodynamics is compiled at install)."""
     import mbd_fmu
     from fmu_base._jit import cache_root
 
-    needed = [("hydro_fmu", "kernels")]
+    needed = []
     formulation = scene.scenario.formulation
     if formulation != "linear":
         needed.append(("mbd_fmu", "kernels"))
     if formulation == "nullspace":
         needed.append(("mbd_fmu", "nullspace_kernels"))
-    folders = {"hydro_fmu": Path(hydro_fmu.__file__).parent, "mbd_fmu": Path(mbd_fmu.__file__).parent}
-    missing = [(pkg, mod) for pkg, mod in needed if not is_compiled(folders[pkg] / f"{mod}.py")]
+    folder = Path(mbd_fmu.__file__).parent
+    missing = [(pkg, mod) for pkg, mod in needed if not is_compiled(folder / f"{mod}.py")]
     if not missing:
         return None
     seconds = sum(COMPILE_SECONDS[m] for m in missing)
-    what = " and ".join({"hydro_fmu": "hydrodynamic", "mbd_fmu": "multibody"}[pkg] + (" null-space" if "null" in mod
-                                                                                      else "")
-                        for pkg, mod in missing)
+    what = " and ".join("multibody" + (" null-space" if "null" in mod else "") for _, mod in missing)
     span = f"about {seconds / 60:.1g} minutes" if seconds >= 90 else f"about {seconds:.0f} s"
     return (f"compiling the {what} kernels for this version of wec-cosim: {span} of CPU on a 2-core machine, longer "
             f"under load; once: later runs load them from {cache_root()} ...")
@@ -472,6 +472,10 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
                        radiation=plan.radiation, mobility=plan.mobility, setup_time=setup,
                        notes=[f"warning: {w}" for w in plan.warnings])
+    if plan.radiation.get("method") == "convolution" and "frequency_error" in plan.radiation:
+        scene, reported = plan.scene, plan.radiation["frequency_error"]
+        # computed when the summary is printed (0.3-8 s on constrained scenes): sweeps and benchmarks skip it
+        result.radiation_check = lambda: scene.radiation_check().text(reported)
     data = read_results(writer.path) if plan.recorder.wave_balance else None
     if data is not None:
         result.energy = energy_account(data)
@@ -489,6 +493,12 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
     result.error_estimate = error_estimate.for_run(plan.scene, writer.path, _quiet_run, data)
+    if scenario._duration_note:
+        result.notes.append(scenario._duration_note)
+    if scenario.waves.kind == "elevation":
+        record = plan.scene.sea().record
+        result.notes.append(f"waves: elevation record {record.source} read as {record.form} "
+                            f"({len(record.eta)} samples every {record.dt:g} s)")
     return result
 
 
@@ -636,6 +646,17 @@ def _powers_text(powers: dict[str, float], many: int = 6) -> str:
             + ", ".join(f"{name} {p / scale:.4g} {unit}" for name, p in largest))
 
 
+def _residual_share(e: dict) -> str:
+    """The residual as a share of the account's largest term: the work in when waves drive the bodies, the stored
+    energy released in a decay in still water (where the work in is zero and a share of it means nothing)."""
+    terms = {k: abs(e[k]) for k in ("work_in", "pto", "radiated", "dissipated", "stored")}
+    key = "work_in" if terms["work_in"] >= 0.5 * max(terms.values()) else max(terms, key=terms.get)
+    if not terms[key] > 0:
+        return ""
+    what = "the work in" if key == "work_in" else f"the largest term ({key.replace('_', ' ')})"
+    return f" ({100 * e['residual'] / terms[key]:.3g} % of {what})"
+
+
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
@@ -650,10 +671,12 @@ def format_summary(result: RunResult) -> str:
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
     e = result.energy
     if e:
-        scale = max(abs(e["work_in"]), 1e-300)
         lines.append("energy account (J): " + ", ".join(
             f"{k.replace('_', ' ')} {e[k]:.6g}" for k in ("work_in", "pto", "radiated", "dissipated", "stored"))
-            + f"; residual {e['residual']:.3g} ({100 * e['residual'] / scale:.3g} % of the work in)")
+            + f"; residual {e['residual']:.3g} J" + _residual_share(e))
+        if result.statistics.get("mooring_lines") == "moordyn":
+            lines.append("  (the MoorDyn lines' work on the bodies is not a term of this account: the residual "
+                         "includes it)")
     st = result.statistics
     if "mean_iterations" in st:
         lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "
@@ -665,9 +688,11 @@ def format_summary(result: RunResult) -> str:
     if r.get("method") == "state_space":
         lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
                      f"A and B against the database {r['frequency_error']:.3g}")
+    elif r.get("method") == "convolution" and result.radiation_check is not None:
+        lines += ["radiation: convolution", result.radiation_check()]
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
-                     f"{r['frequency_error']:.3g}")
+                     f"{r['frequency_error']:.3g} (relative 2-norm, no unit)")
     lines += [f"warning: {w}" for w in r.get("warnings", [])]
     if result.mean_power and not result.comparisons:  # (compared with the exact answer: in the table above)
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))

@@ -158,8 +158,8 @@ def _key(recipe: FmuRecipe, spec: dict, data_files: dict[str, Path]) -> str:
     h.update(pythonfmu.__version__.encode())
     h.update(BUILD_REVISION.encode())
     h.update(json.dumps(spec, sort_keys=True).encode())
-    for package in (recipe.package, "fmu_base"):
-        for f in sorted((ROOT / package).rglob("*.py")):
+    for package in (recipe.package, "fmu_base"):  # sources and the compiled runtime (fmu_base/_wecrt.so) they bundle
+        for f in sorted(p for p in (ROOT / package).rglob("*") if p.suffix in (".py", ".so", ".dylib", ".dll")):
             h.update(f.relative_to(ROOT).as_posix().encode())
             h.update(f.read_bytes())
     for name, f in sorted(data_files.items()):
