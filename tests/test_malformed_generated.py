@@ -497,7 +497,7 @@ def cli(argv: list[str], *, limit_bytes: int | None = None, timeout: float = 600
 
 def test_a_state_space_fit_out_of_reach_falls_back_to_the_convolution_under_fmpy_and_in_process(tmp_path) -> None:
     """The two floats' radiation cannot be fitted by a state space of order 1 at this tolerance: the hydro FMU
-    leaves every block to the convolution and says so. Through fmpy (a real process: a crash would be a negative
+    makes the radiation the convolution and names every block. Through fmpy (a real process: a crash would be a negative
     status) and in-process the run finishes (exit 0), its first lines and its summary name each block the same
     way, and the heaves equal a run with the convolution itself (the same sums, to round-off)."""
     data = bundled("two_floats")
@@ -514,7 +514,7 @@ def test_a_state_space_fit_out_of_reach_falls_back_to_the_convolution_under_fmpy
         out = tmp_path / f"out{len(extra)}.h5"
         proc = cli(["run", str(path), "--out", str(out), *extra])
         assert proc.returncode == 0, proc.stderr
-        lines = [line for line in proc.stdout.splitlines() if "that block is the convolution" in line]
+        lines = [line for line in proc.stdout.splitlines() if "the radiation is the convolution" in line]
         blocks = {(a, b) for a in ("fore", "aft") for b in ("fore", "aft")}
         named = {(a, b) for a, b in blocks if any(f"force on {a} from the motion of {b}" in line for line in lines)}
         assert named == blocks, proc.stdout

@@ -354,7 +354,7 @@ def radiation_model_response(scene: Scene, omega: np.ndarray) -> dict[str, np.nd
 
 def model_solve(scene: Scene, omega: np.ndarray):  # noqa: ANN201 - FrequencyResponse
     """The frequency-domain response with the run's radiation model: the truncated kernel (convolution) or the
-    state-space fit's transfer function plus the blocks left to the convolution. The kernel's transform is taken at
+    state-space fit's transfer function (the convolution when a block fell back). The kernel's transform is taken at
     a quarter of the macro step (its quadrature at the macro step is the run's own time discretisation, which the
     shadow measures)."""
     from orchestrator.reference import frequency_domain

@@ -139,24 +139,16 @@ class ModalImpedance:
         self.kernel = scene_kernel(scene, self.dt, scene.scenario.hydro.irf_duration)
         idx = scene.hydro_index()
         self.a_inf = scene.hdb.added_mass_inf[np.ix_(idx, idx)]
-        self.fit = None  # radiation = "state_space": the scene's fit, the kernel kept for its convolution blocks
+        self.fit = None  # radiation = "state_space": the scene's fit (None when it fell back: the kernel)
         if radiation == "state_space":
             self.fit = scene.hydro_model(dt=self.dt).state_space
-            left = np.zeros_like(self.kernel[1])
-            for blk in self.fit.convolution_blocks:
-                entries = (slice(None), blk.rows[:, None], blk.columns[None, :])
-                left[entries] = self.kernel[1][entries]
-            self.kernel = (self.kernel[0], left)
 
     def _coefficients(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A, B at (complex) ``w`` of the kernel, or of the state-space fit plus its convolution blocks (then A =
-        A_inf and B = K^(w): only -w^2 A + i w B enters Z)."""
+        """A, B at (complex) ``w`` of the kernel, or of the state-space fit (then A = A_inf and B = K^(w): only
+        -w^2 A + i w B enters Z)."""
         if self.fit is None:
             return kernel_coefficients(*self.kernel, self.a_inf, w)
-        a_c, b_c = kernel_coefficients(*self.kernel, np.zeros_like(self.a_inf), w)
-        k = b_c + 1j * w[:, None, None] * a_c
-        if self.fit.order:
-            k = k + self.fit.transfer(w)
+        k = self.fit.transfer(w) if self.fit.order else np.zeros((len(w), *self.a_inf.shape), complex)
         return np.broadcast_to(self.a_inf, k.shape).astype(complex), k
 
     def _reduced(self, w: np.ndarray, **kwargs) -> np.ndarray:

@@ -97,23 +97,21 @@ def radiation_coefficients_from_irf(
 def state_space_coefficients(scene: Scene, omega: np.ndarray, dt: float | None = None) -> tuple[np.ndarray,
                                                                                                  np.ndarray]:
     """A(omega), B(omega) (Nw, m, m) on the hydro coordinates of the scene's state-space radiation model: the fit's
-    transfer function K^(w) = C (i w I - A)^-1 B (``hydro_fmu.state_space``) plus the transform of the blocks left
-    to the convolution (their kernel sampled at ``dt``, default the macro step); B = Re K^, A = A_inf + Im K^ / w.
+    transfer function K^(w) = C (i w I - A)^-1 B (``hydro_fmu.state_space``); B = Re K^, A = A_inf + Im K^ / w. A fit
+    that left a block to the convolution makes the whole model the convolution (the hydro model's
+    ``state_space`` is None): then the transform of the kernel sampled at ``dt`` (default the macro step).
     The fit is made again here (the hydro FMU makes its own, the same)."""
     dt = dt or scene.scenario.simulation.step
     model = scene.hydro_model(dt=dt)
     idx = scene.hydro_index()
     a_inf = scene.hdb.added_mass_inf[np.ix_(idx, idx)]
     fit = model.state_space
-    k = fit.transfer(omega) if fit.order else np.zeros((len(omega), len(idx), len(idx)), complex)
-    if fit.convolution_blocks:
+    if fit is None:
         t, kernel = scene_kernel(scene, dt, scene.scenario.hydro.irf_duration)
-        left = np.zeros_like(kernel)
-        for blk in fit.convolution_blocks:
-            entries = (slice(None), blk.rows[:, None], blk.columns[None, :])
-            left[entries] = kernel[entries]
-        a_c, b_c = kernel_coefficients(t, left, np.zeros_like(a_inf), omega)
-        k = k + b_c + 1j * omega[:, None, None] * a_c  # int K exp(-i w t) dt = B - i int K sin = B + i w A
+        a_c, b_c = kernel_coefficients(t, kernel, np.zeros_like(a_inf), omega)
+        k = b_c + 1j * omega[:, None, None] * a_c  # int K exp(-i w t) dt = B - i int K sin = B + i w A
+    else:
+        k = fit.transfer(omega) if fit.order else np.zeros((len(omega), len(idx), len(idx)), complex)
     return a_inf[None] + k.imag / omega[:, None, None], k.real
 
 

@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-CONVOLUTION_BLOCKS = "state-space blocks left to the convolution"  # a point's message when the fit fell back
+# a point's message when the state-space fit fell back
+CONVOLUTION_BLOCKS = "state-space blocks no order fits (the radiation ran as the convolution)"
 
 
 @dataclass(frozen=True)
@@ -113,7 +114,7 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
             return _unfinished(variant, classify(exc), out, exc)
         data = read_results(result.path)
         point = Point(variant, "ok", result.wall_time, result.simulated_time)
-        blocks = [w for w in result.radiation.get("warnings", []) if "that block is the convolution" in w]
+        blocks = [w for w in result.radiation.get("warnings", []) if "the radiation is the convolution" in w]
         if blocks:
             point.message = f"{CONVOLUTION_BLOCKS}: " + "; ".join(w.split(" reaches")[0].split("fit of ")[-1]
                                                                  for w in blocks)
