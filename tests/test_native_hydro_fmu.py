@@ -22,7 +22,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy import read_model_description
-from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
 
