@@ -242,6 +242,28 @@ class RealStore:
             plan[0][plan[1]] = values
 
 
+class RollbackState:
+    """A state attribute saved as its object's rollback state: the live ``owner`` and what its steps change
+    (``owner.rollback_state()``). Set back onto the same owner by ``owner.restore_rollback_state(data)``; anywhere
+    else (another instance, serialisation) as :meth:`materialise`, a deep copy of the owner as it was then."""
+
+    __slots__ = ("owner", "data")
+
+    def __init__(self, owner: Any, data: Any) -> None:
+        self.owner = owner
+        self.data = data
+
+    def materialise(self) -> Any:
+        """A deep copy of the owner as it was when saved (the owner itself is left as it is now: set back to the
+        saved state for the copy, then forward again)."""
+        now = self.owner.rollback_state()
+        self.owner.restore_rollback_state(self.data)
+        try:
+            return copy.deepcopy(self.owner)
+        finally:
+            self.owner.restore_rollback_state(now)
+
+
 class VectorSlave(Fmi2Slave):
     """PythonFMU slave whose Real variables are views of numpy arrays.
 
@@ -386,12 +408,24 @@ class VectorSlave(Fmi2Slave):
 
     # ------------------------------------------------------------------ state
     def _get_fmu_state(self) -> dict[str, Any]:
-        return {
-            "slave": type(self).__name__,
-            "arrays": {k: a.copy() for k, a in self._arrays.items()},
-            "attributes": {k: copy.deepcopy(getattr(self, k)) for k in self.state_attributes},
-            "_owner": self,
-        }
+        """The registered arrays and a copy of each state attribute; an attribute whose object offers a rollback
+        state (``rollback_state()`` / ``restore_rollback_state(data)``: only what its steps change, e.g. the linear
+        multibody model's positions and velocities) is saved as that (:class:`RollbackState`), the rest deep-copied.
+        Setting the state back onto the same live object is then a few array copies, not a deep copy of the model
+        (an iterative master does it at every iteration)."""
+        attributes = {}
+        previous = self.__dict__.setdefault("_rollback_previous", {})  # the last rollback state per attribute
+        for k in self.state_attributes:
+            value = getattr(self, k)
+            last = previous.get(k)
+            data = value.rollback_state(last.data if last is not None and last.owner is value else None) \
+                if hasattr(value, "rollback_state") else None
+            if data is not None:
+                attributes[k] = previous[k] = RollbackState(value, data)
+            else:
+                attributes[k] = copy.deepcopy(value)
+        return {"slave": type(self).__name__, "arrays": {k: a.copy() for k, a in self._arrays.items()},
+                "attributes": attributes, "_owner": self}
 
     def _set_fmu_state(self, state: dict[str, Any] | SerializedState) -> None:
         if isinstance(state, SerializedState):
@@ -402,7 +436,13 @@ class VectorSlave(Fmi2Slave):
         for key, values in state["arrays"].items():
             self._arrays[key][:] = values
         for key, value in state["attributes"].items():
-            setattr(self, key, copy.deepcopy(value))
+            if isinstance(value, RollbackState):
+                if getattr(self, key) is value.owner:
+                    value.owner.restore_rollback_state(value.data)
+                else:
+                    setattr(self, key, value.materialise())
+            else:
+                setattr(self, key, copy.deepcopy(value))
         self._outputs_stale = True
 
     # PythonFMU's binary calls these two on the class (static methods): the state carries a reference to
@@ -412,7 +452,10 @@ class VectorSlave(Fmi2Slave):
         """The state in :mod:`fmu_base.state_codec`'s data-only layout (never pickle)."""
         owner = state.get("_owner")
         try:
-            return state_codec.encode({k: v for k, v in state.items() if k != "_owner"})
+            plain = {k: v for k, v in state.items() if k != "_owner"}
+            plain["attributes"] = {k: v.materialise() if isinstance(v, RollbackState) else v
+                                   for k, v in state["attributes"].items()}
+            return state_codec.encode(plain)
         except Exception as exc:
             if owner is not None:
                 owner.log(_describe_failure("serialising the FMU state", exc), Fmi2Status.error)

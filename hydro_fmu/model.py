@@ -42,7 +42,14 @@ from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
 from .runtime import HydroRuntime
 from .runtime_input import runtime_input
-from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
+from .state_space import (
+    DEFAULT_MAX_ORDER,
+    DEFAULT_TOLERANCE,
+    StateSpaceMemory,
+    fit_cached,
+    frequency_error,
+    sampling_step,
+)
 from .waves import Ramp, WaveComponents
 
 RADIATION_METHODS = ("convolution", "state_space")
@@ -72,6 +79,8 @@ class HydroOptions:
         tail_correction: (nodes (k,), values (k, 6 N, 6 N) on all DOFs of the model's bodies) added to that
             continuation (:func:`hydro_fmu.radiation.kramers_kronig_tail`); None: none.
         state_space_tolerance, state_space_max_order: order selection of the state-space fit.
+        still: (body, DOF) pairs whose velocity is always zero (a fixed body, a locked joint): the state-space
+            fit gives their columns no memory (:func:`hydro_fmu.state_space.fit_state_space`).
         excitation_method: ``superposition`` or ``convolution`` (non-causal impulse response).
         excitation_irf_duration: half-length of the excitation kernel (s).
         nonlinear_hydrostatics, nonlinear_froude_krylov: pressure integration over the wetted mesh.
@@ -85,6 +94,7 @@ class HydroOptions:
     tail_correction: tuple[np.ndarray, np.ndarray] | None = None
     state_space_tolerance: float = DEFAULT_TOLERANCE
     state_space_max_order: int = DEFAULT_MAX_ORDER
+    still: tuple[tuple[str, int], ...] = ()
     excitation_method: str = "superposition"
     excitation_irf_duration: float = 30.0
     nonlinear_hydrostatics: bool = False
@@ -122,7 +132,9 @@ class RadiationReport:
             :func:`hydro_fmu.state_space.scaled_error`); 0 for the convolution.
         frequency_error: error of the model's A(omega), B(omega) against the database (scaled);
             for the convolution, that of the truncated impulse response itself.
-        warnings: impulse-response accuracy warnings.
+        warnings: impulse-response accuracy warnings (and state-space blocks left to the convolution).
+        convolution_blocks: (force on body, from the motion of body) of each state-space block no order up to
+            the limit fitted, left to the convolution.
     """
 
     method: str
@@ -131,6 +143,7 @@ class RadiationReport:
     kernel_error: float = 0.0
     frequency_error: float = float("nan")
     warnings: list[str] = field(default_factory=list)
+    convolution_blocks: list[tuple[str, str]] = field(default_factory=list)
 
 
 class HydroModel:
@@ -248,23 +261,47 @@ class HydroModel:
                 self.kernel_time, self.kernel, self.hdb.omega, added_mass, table, self.added_mass_inf,
                 self._scale_floors(table))
             return
-        floors = self._scale_floors(self.kernel)
         body = self.index // 6  # one realisation per pair of bodies (order proportional to what couples)
         groups = [np.nonzero(body == b)[0] for b in np.unique(body)]
-        fit = fit_state_space(self.kernel_time, self.kernel, float(omega[-1]), o.state_space_tolerance,
-                              o.state_space_max_order,
-                              kernel_function=lambda t: impulse_response(*table, t), floors=floors, groups=groups)
+        still_pairs = {(b, int(d)) for b, d in o.still}
+        still = np.array([(self.bodies[k // 6], k % 6) in still_pairs for k in self.index], dtype=bool)
+        sampling = sampling_step(*table, float(omega[-1]), o.state_space_tolerance, float(self.kernel_time[-1]))
+        fit = fit_cached(table, self.kernel_time, self.kernel, omega_max=float(omega[-1]),
+                         tolerance=o.state_space_tolerance, max_order=o.state_space_max_order, groups=groups,
+                         kinds=self.index % 6 >= 3, still=still, fallback=True, sampling=sampling)
         self.state_space = fit
         self.report.order = fit.order
         self.report.kernel_error = fit.kernel_error
-        self.report.frequency_error = frequency_error(
-            fit, self.hdb.omega, added_mass, self.hdb.radiation_damping[:, self.index][:, :, self.index],
-            self.added_mass_inf, self._scale_floors(self.hdb.radiation_damping[:, self.index][:, :, self.index]))
+        table_b = self.hdb.radiation_damping[:, self.index][:, :, self.index]
+        if fit.convolution_blocks:
+            # The compiled runtime steps one radiation model (the convolution or a state space): a block no order
+            # fits makes the whole radiation the convolution, said with the block named. (Per block, the runtime
+            # would need both: the fitted blocks' states plus the convolution of the others' kernel entries.)
+            for blk in fit.convolution_blocks:
+                pair = (self.bodies[int(self.index[blk.rows[0]]) // 6],
+                        self.bodies[int(self.index[blk.columns[0]]) // 6])
+                self.report.convolution_blocks.append(pair)
+                self.report.warnings.append(
+                    f"radiation: the state-space fit of the force on {pair[0]} from the motion of {pair[1]} reaches no "
+                    f"better than {blk.error:.3g} (order {blk.order}) against the tolerance "
+                    f"{o.state_space_tolerance:g} within the order limit {o.state_space_max_order}: the radiation is "
+                    "the convolution (raise hydro.state_space_max_order or hydro.state_space_tolerance to fit it)")
+            self.state_space = None
+            self.report.method, self.report.order, self.report.kernel_error = "convolution", 0, 0.0
+            self.report.frequency_error = _kernel_frequency_error(
+                self.kernel_time, self.kernel, self.hdb.omega, added_mass, table_b, self.added_mass_inf,
+                self._scale_floors(table_b))
+            return
+        self.report.frequency_error = frequency_error(fit, self.hdb.omega, added_mass, table_b, self.added_mass_inf,
+                                                      self._scale_floors(table_b), columns=~still)
 
     @property
     def radiation(self) -> str | None:
-        """The radiation memory's method (``convolution`` or ``state_space``), None when it is off."""
-        return self.options.radiation_method if self.switches.radiation else None
+        """The radiation memory's method (``convolution`` or ``state_space``: the convolution also when a state-space
+        fit left a block to it), None when it is off."""
+        if not self.switches.radiation:
+            return None
+        return "state_space" if self.state_space is not None else "convolution"  # (a fit that fell back: convolution)
 
     def reference_memory(self) -> RadiationMemory | StateSpaceMemory | None:
         """A new Python radiation memory of this model at rest (the reference implementation of what the runtime
@@ -379,8 +416,11 @@ class HydroModel:
 
 
 def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,
-                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray) -> float:
-    """Scaled error of the truncated, sampled kernel's A(omega), B(omega) against the database."""
+                            damping: np.ndarray, added_mass_inf: np.ndarray, floors: np.ndarray,
+                            fit=None, columns: np.ndarray | None = None) -> float:  # noqa: ANN001 - StateSpaceFit
+    """Scaled error of the truncated, sampled kernel's A(omega), B(omega) (plus ``fit``'s transfer function, for a
+    state space with blocks left to the convolution) against the database; ``columns``: the DOFs whose columns
+    count (those that can move)."""
     from .state_space import dof_scales, scaled_error
 
     dt = t[1] - t[0]
@@ -388,5 +428,13 @@ def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray
     w[0] = w[-1] = dt / 2
     b = np.einsum("wt,tij->wij", np.cos(np.outer(omega, t)) * w, kernel)
     wa = -np.einsum("wt,tij->wij", np.sin(np.outer(omega, t)) * w, kernel)
+    if fit is not None and fit.order:
+        k = fit.transfer(omega)
+        b = b + k.real
+        wa = wa + k.imag
     ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
-    return scaled_error(ref, np.concatenate([b, wa], axis=0), dof_scales(ref, floors))
+    approx = np.concatenate([b, wa], axis=0)
+    scales = dof_scales(ref, floors)
+    if columns is None:
+        return scaled_error(ref, approx, scales)
+    return scaled_error(ref[:, :, columns], approx[:, :, columns], scales, scales[columns])

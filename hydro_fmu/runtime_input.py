@@ -69,7 +69,7 @@ def runtime_arrays(model: HydroModel) -> dict[str, np.ndarray]:
         "model.added_mass_inf": np.asarray(model.added_mass_inf, dtype=float),
         "ramp.duration": float(model.ramp.duration),
         "excitation.method": EXCITATION_CODES[type(model.excitation)],
-        "radiation.method": 0 if model.radiation is None else 2 if o.radiation_method == "state_space" else 1,
+        "radiation.method": {None: 0, "convolution": 1, "state_space": 2}[model.radiation],
         "hydrostatics.method": 0 if not sw.hydrostatics else 2 if o.nonlinear_hydrostatics else 1,
         "froude_krylov.nonlinear": int(bool(o.nonlinear_froude_krylov and sw.excitation)),
         "waves.omega": omega,

@@ -114,7 +114,7 @@ class HydroSlave(VectorSlave):
         self._register_report()
         try:  # built now so that the calculated parameters are right from the start
             self._build_if_changed()
-        except ValueError:  # e.g. no state-space fit within the tolerance: reported at initialisation
+        except ValueError:  # e.g. no stable state-space realisation at all: reported at initialisation
             self.model = None
 
     # ------------------------------------------------------------------ variables
@@ -250,6 +250,7 @@ class HydroSlave(VectorSlave):
             state_space_tolerance=p.get("radiation.state_space_tolerance",
                                         r.get("state_space_tolerance", DEFAULT_TOLERANCE)),
             state_space_max_order=r.get("state_space_max_order", 60),
+            still=tuple((b, int(d)) for b, d in r.get("still", [])),
             excitation_method=e.get("method", "superposition"), excitation_irf_duration=e.get("irf_duration", 30.0),
             nonlinear_hydrostatics=nonlinear.get("hydrostatics", False),
             nonlinear_froude_krylov=nonlinear.get("froude_krylov", False),

@@ -37,16 +37,41 @@ the trapezoidal convolution.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.linalg import expm
 
 DEFAULT_TOLERANCE = 0.002
 DEFAULT_MAX_ORDER = 100
+HANKEL_ROWS = 300  # scalar rows of the ERA's block Hankel matrix (_hankel)
+MAX_SAMPLES = 4000  # kernel samples of a fit at most (sampling_step)
 
 
 class StateSpaceFitError(ValueError):
-    """No realisation within the order limit meets the tolerance."""
+    """No realisation within the order limit meets the tolerance (``best``: (error, order) of the best one tried)."""
+
+    def __init__(self, message: str, *, best: tuple[float, int] | None = None,
+                 history: list[tuple[int, float]] | None = None) -> None:
+        super().__init__(message)
+        self.best = best
+        self.history = history or []
+
+
+@dataclass
+class ConvolutionBlock:
+    """A block of the kernel left to the convolution: no realisation up to the order limit reached the tolerance.
+
+    Attributes:
+        rows, columns: DOF indices (forces on ``rows`` from the velocities of ``columns``).
+        error: the best scaled error reached (at ``order``).
+        order: the order of that best fit.
+    """
+
+    rows: np.ndarray
+    columns: np.ndarray
+    error: float
+    order: int
 
 
 @dataclass
@@ -60,6 +85,7 @@ class StateSpaceFit:
         frequency_error: scaled error of B and A against the database (nan if not evaluated).
         tolerance: the requested kernel error.
         history: (order, kernel_error) of every order tried.
+        convolution_blocks: blocks no order up to the limit fitted (``fallback``), left to the convolution.
     """
 
     a: np.ndarray
@@ -70,6 +96,7 @@ class StateSpaceFit:
     tolerance: float
     frequency_error: float = float("nan")
     history: list[tuple[int, float]] = field(default_factory=list)
+    convolution_blocks: list[ConvolutionBlock] = field(default_factory=list)
 
     def impulse_response(self, t: np.ndarray) -> np.ndarray:
         """C exp(A t) B at the times ``t`` (len(t), n, n)."""
@@ -80,11 +107,14 @@ class StateSpaceFit:
         return np.real(out)
 
     def transfer(self, omega: np.ndarray) -> np.ndarray:
-        """K^(omega) = C (i omega I - A)^-1 B (len(omega), n, n)."""
-        r = self.order
-        out = np.empty((len(omega), self.c.shape[0], self.b.shape[1]), complex)
-        for k, w in enumerate(omega):
-            out[k] = self.c @ np.linalg.solve(1j * w * np.eye(r) - self.a, self.b)
+        """K^(omega) = C (i omega I - A)^-1 B (len(omega), n, n), from the eigen-decomposition of A (block by block:
+        the fit's A is block-diagonal)."""
+        out = np.zeros((len(omega), self.c.shape[0], self.b.shape[1]), complex)
+        for part in _diagonal_blocks(self.a):
+            lam, vec = np.linalg.eig(self.a[part, part])
+            left = self.c[:, part] @ vec
+            right = np.linalg.solve(vec, self.b[part])
+            out += np.einsum("ir,wr,rj->wij", left, 1.0 / (1j * np.asarray(omega)[:, None] - lam[None, :]), right)
         return out
 
     @property
@@ -113,6 +143,18 @@ def scaled_error(reference: np.ndarray, approximation: np.ndarray, scales: np.nd
     return float(rel.max()) if rel.size else 0.0
 
 
+def dof_kind_floors(scales: np.ndarray, kinds: np.ndarray | None, fraction: float = 1e-3) -> np.ndarray | None:
+    """Floors of the DOF scales: ``fraction`` of the largest scale among the DOFs of the same kind (``kinds``: a
+    label per DOF, e.g. translation or rotation); None without kinds."""
+    if kinds is None:
+        return None
+    kinds = np.asarray(kinds)
+    floors = np.zeros_like(scales)
+    for k in np.unique(kinds):
+        floors[kinds == k] = fraction * scales[kinds == k].max()
+    return floors
+
+
 def fit_state_space(
     t: np.ndarray,
     kernel: np.ndarray,
@@ -122,28 +164,45 @@ def fit_state_space(
     kernel_function=None,
     floors: np.ndarray | None = None,
     groups: list[np.ndarray] | None = None,
+    *,
+    kinds: np.ndarray | None = None,
+    still: np.ndarray | None = None,
+    fallback: bool = False,
+    sampling: float | None = None,
 ) -> StateSpaceFit:
     """Fit the lowest order whose kernel error is within ``tolerance`` (module docstring).
 
+    The error is measured on the fit's own samples K(k D) (D = ``sampling``, by default pi / (2 omega_max): four
+    samples per period of the highest frequency of the database), so that the fit, its order and whether it meets
+    the tolerance do not depend on the grid ``t`` the kernel is given on (the simulation's step). A kernel with
+    content above omega_max (B continued above the database) needs a finer D (:func:`sampling_step`).
+
     Args:
         t, kernel: the impulse response on a uniform grid from 0 (m,), (m, n, n).
-        omega_max: highest frequency in the kernel (rad/s), sets the sampling D = pi / (2 omega_max).
+        omega_max: highest frequency in the kernel's data (rad/s), sets the default sampling D = pi / (2 omega_max).
         tolerance: largest acceptable scaled kernel error.
         max_order: order limit (per block with ``groups``); :class:`StateSpaceFitError` if no order up to it
-            fits.
+            fits (unless ``fallback``).
         kernel_function: K(times) -> (len, n, n), used to sample the kernel at D (default: every
             k-th sample of ``kernel``, k dt the largest multiple of its step not above D).
-        floors: lower bounds of the DOF scales of the error measure (:func:`dof_scales`).
+        floors: lower bounds of the DOF scales of the error measure (:func:`dof_scales`), or
+        kinds: a label per DOF (translation, rotation): floors of 1e-3 of the largest scale of the same kind,
+            measured on the fit's samples.
         groups: DOF indices of each body (several bodies): one realisation per ordered pair of bodies
             (K_ab: velocity of b to force on a), assembled block-diagonally, so that the order grows with the
             couplings that matter, not with the square of the body count; a pair whose coupling is already
             within the tolerance of zero (distant bodies) gets none. The error measure is the same
             entry-wise maximum, so the assembled fit meets the tolerance when every block does.
+        still: DOFs whose velocity is always zero (a fixed body, a locked joint): their columns carry no
+            memory, the fit leaves them out (no states; their error is not measured).
+        fallback: a block that no order up to ``max_order`` fits is left to the convolution
+            (:attr:`StateSpaceFit.convolution_blocks`) instead of raising.
+        sampling: the sample step D (s), e.g. from :func:`sampling_step`.
     """
     if not tolerance > 0:
         raise ValueError(f"state-space tolerance must be positive (got {tolerance})")
-    norms = dof_scales(kernel, floors)
-    d = min(np.pi / (2 * omega_max), t[-1] / 8)
+    n = kernel.shape[1]
+    d = min(sampling or np.pi / (2 * omega_max), t[-1] / 8)
     if kernel_function is not None:
         samples_t = np.arange(0.0, t[-1] + 1e-9 * d, d)
         samples = kernel_function(samples_t)
@@ -151,25 +210,37 @@ def fit_state_space(
         k = max(1, int(np.floor(d / (t[1] - t[0]) + 1e-9)))
         d = k * (t[1] - t[0])
         samples = kernel[::k]
-    if groups is None or len(groups) <= 1:
-        a, b, c, order, err, history = _fit_block(t, kernel, samples, d, norms, norms, tolerance, max_order, "")
-        return StateSpaceFit(a, b, c, order, err, tolerance, history=history)
-    n = kernel.shape[1]
-    parts, worst, history = [], 0.0, []
+        samples_t = t[::k]
+    norms = dof_scales(samples)
+    norms = np.maximum(norms, dof_kind_floors(norms, kinds)) if kinds is not None else dof_scales(samples, floors)
+    moving = np.ones(n, dtype=bool) if still is None else ~np.asarray(still, dtype=bool)
+    groups = [np.arange(n)] if not groups else [np.asarray(g, dtype=int) for g in groups]
+    parts, worst, history, left = [], 0.0, [], []
     for ga in groups:
         for gb in groups:
-            block = kernel[:, ga][:, :, gb]
+            gb = gb[moving[gb]]
+            if not len(gb):
+                continue  # no memory of a DOF that cannot move
+            block = samples[:, ga][:, :, gb]
             zero = scaled_error(block, np.zeros_like(block), norms[ga], norms[gb])
             if zero <= tolerance:  # coupling within the tolerance of zero: no states
                 worst = max(worst, zero)
                 continue
-            label = f" (block of DOFs {list(map(int, ga))} x {list(map(int, gb))})"
-            a, b, c, order, err, hist = _fit_block(t, block, samples[:, ga][:, :, gb], d, norms[ga], norms[gb],
-                                                  tolerance, max_order, label)
+            label = "" if len(groups) == 1 and len(gb) == n else \
+                f" (block of DOFs {list(map(int, ga))} x {list(map(int, gb))})"
+            try:
+                a, b, c, order, err, hist = _fit_block(samples_t, block, d, norms[ga], norms[gb], tolerance,
+                                                      max_order, label)
+            except StateSpaceFitError as exc:
+                if not fallback or exc.best is None:
+                    raise
+                left.append(ConvolutionBlock(ga, gb, exc.best[0], exc.best[1]))
+                history += exc.history
+                continue
             parts.append((ga, gb, a, b, c))
             worst = max(worst, err)
             history += hist
-    r = sum(p[2].shape[0] for p in parts)
+    r = sum(part[2].shape[0] for part in parts)
     a, b, c = np.zeros((r, r)), np.zeros((r, n)), np.zeros((n, r))
     k = 0
     for ga, gb, ab, bb, cb in parts:
@@ -178,85 +249,156 @@ def fit_state_space(
         b[k:k + o, gb] = bb
         c[ga, k:k + o] = cb
         k += o
-    return StateSpaceFit(a, b, c, r, worst, tolerance, history=history)
+    return StateSpaceFit(a, b, c, r, worst, tolerance, history=history, convolution_blocks=left)
 
 
-def _fit_block(t: np.ndarray, kernel: np.ndarray, samples: np.ndarray, d: float, rows: np.ndarray,
-               cols: np.ndarray, tolerance: float, max_order: int, label: str) -> tuple:
-    """ERA fit of one (m, p, q) kernel block with row and column scales: (a, b, c, order, error, history)."""
-    p = kernel.shape[1]
+_FITS: dict[str, StateSpaceFit] = {}  # fits made in this process, by their inputs (fit_cached)
+
+
+def fit_cached(table: tuple[np.ndarray, np.ndarray], kernel_time: np.ndarray, kernel: np.ndarray, **kwargs: Any
+               ) -> StateSpaceFit:
+    """:func:`fit_state_space` of the kernel of ``table`` (omega, B) (``kernel_function`` its impulse response), kept
+    in this process for the same inputs: the fit does not depend on the grid the kernel is given on, and a run's
+    error estimate makes the same fit three times (the run's hydro FMU, its coarse shadow's, the frequency domain's
+    model of the run's radiation)."""
+    import hashlib
+
+    from .radiation import impulse_response
+
+    digest = hashlib.sha256()
+    for array in (*table, kernel_time[-1:]):
+        value = np.ascontiguousarray(array)
+        digest.update(f"{value.dtype.str}{value.shape}".encode())
+        digest.update(value.tobytes())
+    for key in sorted(kwargs):
+        value = kwargs[key]
+        if isinstance(value, list):  # groups
+            value = [np.asarray(g).tolist() for g in value]
+        elif isinstance(value, np.ndarray):
+            value = value.tolist()
+        digest.update(f"{key}={value!r};".encode())
+    key = digest.hexdigest()
+    if key not in _FITS:
+        if len(_FITS) >= 8:
+            _FITS.pop(next(iter(_FITS)))
+        _FITS[key] = fit_state_space(kernel_time, kernel, kernel_function=lambda t: impulse_response(*table, t),
+                                     **kwargs)
+    fit = _FITS[key]
+    return StateSpaceFit(fit.a.copy(), fit.b.copy(), fit.c.copy(), fit.order, fit.kernel_error, fit.tolerance,
+                         fit.frequency_error, list(fit.history), list(fit.convolution_blocks))
+
+
+def _fit_block(ts: np.ndarray, samples: np.ndarray, d: float, rows: np.ndarray, cols: np.ndarray,
+               tolerance: float, max_order: int, label: str) -> tuple:
+    """ERA fit of one (m, p, q) block of kernel samples at ``ts`` (step ``d``) with row and column scales:
+    (a, b, c, order, error, history); the error is measured on the same samples."""
+    p = samples.shape[1]
     scale_r = np.where(rows > 0, 1.0 / np.sqrt(np.where(rows > 0, rows, 1.0)), 1.0)
     scale_c = np.where(cols > 0, 1.0 / np.sqrt(np.where(cols > 0, cols, 1.0)), 1.0)
     scaled = samples * scale_r[None, :, None] * scale_c[None, None, :]
     h0, h1 = _hankel(scaled)
-    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    if h0.shape[1] > 2 * h0.shape[0]:  # wide: the SVD of the triangular factor of H0^T (half the cost)
+        q, r = np.linalg.qr(h0.T)
+        u, s, wt = np.linalg.svd(r.T)
+        vt = wt @ q.T
+    else:
+        u, s, vt = np.linalg.svd(h0, full_matrices=False)
     history = []
     best = None
     limit = min(max_order, int(np.sum(s > s[0] * 1e-12))) if s.size and s[0] > 0 else 0
+    projected = u[:, :limit].T @ h1 @ vt[:limit].T  # U_r^T H1 V_r of every order r: its leading r x r block
     for order in range(1, limit + 1):
-        fit = _realise(u, s, vt, h1, order, p, d, scaled)
+        fit = _realise(u, s, projected, order, p, d, scaled)
         if fit is None:
             continue
-        a, b, c = fit
+        a, b, c, response = fit
         c = c / scale_r[:, None]
         b = b / scale_c[None, :]
-        err = scaled_error(kernel, _response(a, b, c, t), rows, cols)
+        err = scaled_error(samples, response / scale_r[None, :, None] / scale_c[None, None, :], rows, cols)
         history.append((order, err))
         if best is None or err < best[3]:
             best = (a, b, c, err, order)
         if err <= tolerance:
             return a, b, c, order, err, history
     if best is None:
-        raise StateSpaceFitError(f"no stable state-space realisation could be formed from the impulse response{label}")
+        raise StateSpaceFitError(f"no stable state-space realisation could be formed from the impulse response{label}",
+                                 history=history)
     raise StateSpaceFitError(
         f"no state-space realisation up to order {max_order} reaches the tolerance {tolerance:g}{label} "
-        f"(best: order {best[4]}, error {best[3]:.3g}); raise hydro.state_space_max_order or the tolerance")
+        f"(best: order {best[4]}, error {best[3]:.3g}); raise hydro.state_space_max_order or the tolerance",
+        best=(best[3], best[4]), history=history)
 
 
-def _hankel(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Block Hankel matrices H0 = [K_{i+j}] and H1 = [K_{i+j+1}] (square, as large as the samples allow)."""
-    m, n, _ = samples.shape
-    p = (m - 1) // 2
-    rows = [np.concatenate(list(samples[i : i + p]), axis=1) for i in range(p)]
-    h0 = np.concatenate(rows, axis=0)
-    rows1 = [np.concatenate(list(samples[i + 1 : i + 1 + p]), axis=1) for i in range(p)]
-    h1 = np.concatenate(rows1, axis=0)
+def _diagonal_blocks(a: np.ndarray) -> list[slice]:
+    """The consecutive diagonal blocks of a block-diagonal ``a`` (slices)."""
+    r = a.shape[0]
+    out, start = [], 0
+    for k in range(1, r + 1):
+        if k == r or (not np.any(a[start:k, k:]) and not np.any(a[k:, start:k])):
+            out.append(slice(start, k))
+            start = k
+    return out
+
+
+def _hankel(samples: np.ndarray, max_rows: int = HANKEL_ROWS) -> tuple[np.ndarray, np.ndarray]:
+    """Block Hankel matrices H0 = [K_{i+j}] and H1 = [K_{i+j+1}]: every sample in the columns, as many block rows
+    as the samples allow up to ``max_rows`` scalar rows (square for short kernels, wide for long ones: the SVD's
+    cost grows with the square of the rows)."""
+    m, n, q = samples.shape
+    r = max(1, min((m - 1) // 2, max_rows // max(n, 1)))
+    c = m - r
+    h0 = np.empty((r * n, c * q))
+    h1 = np.empty((r * n, c * q))
+    for i in range(r):
+        h0[i * n:(i + 1) * n] = np.transpose(samples[i:i + c], (1, 0, 2)).reshape(n, c * q)
+        h1[i * n:(i + 1) * n] = np.transpose(samples[i + 1:i + 1 + c], (1, 0, 2)).reshape(n, c * q)
     return h0, h1
 
 
-def _realise(u: np.ndarray, s: np.ndarray, vt: np.ndarray, h1: np.ndarray, order: int, n: int, d: float,
-             samples: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """ERA realisation of ``order`` with stable poles, continuous A, refitted B (scaled units)."""
+def sampling_step(omega: np.ndarray, damping: np.ndarray, omega_max: float, tolerance: float, duration: float,
+                  max_samples: int = MAX_SAMPLES) -> float:
+    """The fit's sample step D = pi / (2 omega_e): four samples per period of the frequency omega_e above which the
+    damping table (B on a grid up to its continuation's end) holds at most (tolerance / 4)^2 of the energy
+    int B_ii^2 d omega of any diagonal entry (by Parseval, the kernel's L2 norm beyond what samples at D resolve
+    is then at most a quarter of the tolerance), at least omega_max; coarser if the kernel's ``duration`` would need
+    more than ``max_samples`` samples."""
+    diag = np.einsum("wii->wi", np.asarray(damping, dtype=float)) ** 2
+    w = np.asarray(omega, dtype=float)
+    cum = np.concatenate([np.zeros((1, diag.shape[1])),
+                          np.cumsum(0.5 * (diag[1:] + diag[:-1]) * np.diff(w)[:, None], axis=0)])
+    total = cum[-1]
+    above = 1.0 - cum / np.where(total > 0, total, 1.0)
+    ok = np.all(above <= (tolerance / 4) ** 2, axis=1)
+    omega_e = max(float(w[int(np.argmax(ok))]) if ok.any() else float(w[-1]), float(omega_max))
+    return max(np.pi / (2 * omega_e), duration / max_samples)
+
+
+def _realise(u: np.ndarray, s: np.ndarray, projected: np.ndarray, order: int, n: int, d: float,
+             samples: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """ERA realisation of ``order`` with stable poles, continuous A, refitted B (scaled units) and its impulse
+    response at the samples; ``projected``: U^T H1 V of a larger order (its leading block is this order's)."""
     root = np.sqrt(s[:order])
-    ur, vr = u[:, :order], vt[:order].T
-    phi = (ur.T @ h1 @ vr) / np.outer(root, root)
-    c = ur[:n] * root
+    phi = projected[:order, :order] / np.outer(root, root)
+    c = u[:n, :order] * root
     lam, vec = np.linalg.eig(phi)
     unstable = np.abs(lam) >= 1.0
     lam = np.where(unstable, lam / np.abs(lam) ** 2 * (1 - 1e-9), lam)
     if np.any(np.abs(lam) < 1e-12) or np.any((np.abs(lam.imag) < 1e-12) & (lam.real < 0)):
         return None  # a pole at the Nyquist frequency or at zero has no continuous counterpart
+    try:
+        inverse = np.linalg.inv(vec)
+    except np.linalg.LinAlgError:
+        return None
     log_lam = np.log(lam.astype(complex)) / d
-    a = np.real(vec @ np.diag(log_lam) @ np.linalg.inv(vec))
+    a = np.real(vec @ np.diag(log_lam) @ inverse)
     if not np.all(np.isfinite(a)):
         return None
-    b = _refit_input(a, c, samples, d)
-    return a, b, c
-
-
-def _refit_input(a: np.ndarray, c: np.ndarray, samples: np.ndarray, d: float) -> np.ndarray:
-    """B minimising sum_k ||C exp(A k D) B - K_k||^2 (linear least squares, A and C fixed)."""
-    m, p, q = samples.shape
-    step = expm(a * d)
-    rows = []
-    power = np.eye(a.shape[0])
-    for _ in range(m):
-        rows.append(c @ power)
-        power = power @ step
-    design = np.concatenate(rows, axis=0)  # (m p, r)
-    target = samples.reshape(m * p, q)
-    b, *_ = np.linalg.lstsq(design, target, rcond=None)
-    return b
+    # C exp(A k D) = (C V) diag(lambda^k) V^-1: the least-squares design of B (A and C fixed), row block k
+    m = samples.shape[0]
+    powers = np.exp(np.outer(np.arange(m), np.log(lam.astype(complex))))  # (m, r)
+    design = np.real(((c @ vec)[None, :, :] * powers[:, None, :]).reshape(m * n, order) @ inverse)
+    b, *_ = np.linalg.lstsq(design, samples.reshape(m * n, -1), rcond=None)
+    return a, b, c, (design @ b).reshape(samples.shape)
 
 
 def _response(a: np.ndarray, b: np.ndarray, c: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -267,15 +409,20 @@ def _response(a: np.ndarray, b: np.ndarray, c: np.ndarray, t: np.ndarray) -> np.
 
 
 def frequency_error(fit: StateSpaceFit, omega: np.ndarray, added_mass: np.ndarray, damping: np.ndarray,
-                    added_mass_inf: np.ndarray, floors: np.ndarray | None = None) -> float:
-    """Scaled error of the fit's A(omega) and B(omega) against the database (module docstring)."""
+                    added_mass_inf: np.ndarray, floors: np.ndarray | None = None,
+                    columns: np.ndarray | None = None) -> float:
+    """Scaled error of the fit's A(omega) and B(omega) against the database (module docstring); ``columns``: the
+    DOFs whose columns count (those that can move: the fit gives the others no memory)."""
     k = fit.transfer(omega)
     b_fit = k.real
     a_fit = added_mass_inf[None] + k.imag / omega[:, None, None]
     # Compare omega (A - A_inf) and B on one scale: both are parts of K^(omega).
     ref = np.concatenate([damping, omega[:, None, None] * (added_mass - added_mass_inf[None])], axis=0)
     approx = np.concatenate([b_fit, omega[:, None, None] * (a_fit - added_mass_inf[None])], axis=0)
-    return scaled_error(ref, approx, dof_scales(ref, floors))
+    scales = dof_scales(ref, floors)
+    if columns is None:
+        return scaled_error(ref, approx, scales)
+    return scaled_error(ref[:, :, columns], approx[:, :, columns], scales, scales[columns])
 
 
 class StateSpaceMemory:
@@ -345,3 +492,4 @@ class StateSpaceMemory:
         self.w[:r] = self._update(self.pending)[0] @ self.w
         self.w[r : r + n] = v_now
         self.pending = float(h)
+

@@ -178,6 +178,21 @@ class LinearMultibodySystem:
         self.q = np.array(q, dtype=float)
         self.qd = np.array(qd, dtype=float)
 
+    def rollback_state(self, previous: dict | None = None) -> dict:
+        """What stepping, PTO commands and force tangents change (for an FMU state set back onto this object:
+        ``fmu_base.slave.RollbackState``): every attribute, the position and velocity arrays and the PTO list
+        copied (the other attributes are replaced, never changed in place; the steppers are a cache keyed by
+        their own inputs)."""
+        out = dict(self.__dict__)
+        out["q"], out["qd"], out["ptos"] = self.q.copy(), self.qd.copy(), list(self.ptos)
+        return out
+
+    def restore_rollback_state(self, data: dict) -> None:
+        """Back to a :meth:`rollback_state` (which stays valid for another restore)."""
+        self.__dict__.clear()
+        self.__dict__.update(data)
+        self.q, self.qd, self.ptos = data["q"].copy(), data["qd"].copy(), list(data["ptos"])
+
     def step(self, h: float, force: np.ndarray, rate: np.ndarray | None = None) -> None:
         """Advance by ``h`` (s) with the external force ``force`` (n,) held constant, or varying at ``rate``
         (n,) N/s over the step, plus the force tangents' terms (:meth:`set_force_tangents`)."""

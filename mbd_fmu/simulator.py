@@ -74,6 +74,20 @@ class MultibodySimulator:
         self._powers = self.powers()
         return moved
 
+    # ------------------------------------------------------------------ rollback (FMU states in memory)
+    def rollback_state(self, previous=None):  # noqa: ANN001, ANN201 - fmu_base.rollback.Snapshot | None
+        """What a step may change, saved in place (:func:`fmu_base.rollback.snapshot`; ``previous``: an earlier one,
+        whose walk is reused while the graph keeps its shape), or None (MoorDyn lines: their state is MoorDyn's own;
+        the FMU state is then a deep copy)."""
+        from fmu_base.rollback import snapshot
+
+        return snapshot(self, previous)
+
+    def restore_rollback_state(self, data) -> None:  # noqa: ANN001 - fmu_base.rollback.Snapshot
+        from fmu_base.rollback import restore
+
+        restore(data)
+
     # ------------------------------------------------------------------ stepping
     def advance(self, h: float, inputs: np.ndarray | None = None, restart: bool = False) -> None:
         """Step over ``h`` seconds with ``inputs`` (generalised slot forces) held; ``restart``: a force element's

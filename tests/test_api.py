@@ -116,7 +116,7 @@ def test_a_run_from_python_has_its_mean_power_beside_the_exact_answer(cylinder_r
 
 def test_the_results_dataset_is_labelled_and_holds_the_files_data(cylinder_run) -> None:
     ds = cylinder_run.dataset()
-    assert set(ds.dims) == {"time", "body", "dof", "pto"}
+    assert set(ds.dims) == {"time", "body", "dof", "pto", "shadow_time"}  # shadow_time: the error estimate's shadow
     assert list(ds.dof.values) == ["surge", "sway", "heave", "roll", "pitch", "yaw"]
     assert ds.time.attrs["units"] == "s"
     assert ds.displacement.attrs["units"] == "m or rad"

@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hydro_fmu.state_space import DEFAULT_TOLERANCE, StateSpaceFitError, StateSpaceMemory, fit_state_space
+from hydro_fmu.state_space import (
+    DEFAULT_TOLERANCE,
+    StateSpaceFitError,
+    StateSpaceMemory,
+    fit_state_space,
+    sampling_step,
+)
 from orchestrator.cosim.simulation import run_scenario
 from orchestrator.reference import frequency_domain
 from orchestrator.results import read_results
@@ -186,3 +192,50 @@ def test_fit_per_body_pair_grows_with_the_couplings_only() -> None:
     assert np.max(np.abs(fitted - kernel)) < 1e-4 * scale
     assert np.max(np.abs(fitted[:, 4:, :4])) < 1e-12 and np.max(np.abs(fitted[:, :4, 4:])) < 1e-12
     assert fit.max_real_pole < 0
+
+
+def test_the_fit_does_not_depend_on_the_grid_the_kernel_is_given_on() -> None:
+    """The fit samples the kernel at its own step and is judged there: the kernel handed over on a 0.05 s or a
+    0.01 s grid (the macro step) gives the same realisation (it failed at small steps before: judged on the
+    macro step's grid, the same fit met the tolerance at 0.08 s and missed it at 0.04 s)."""
+    fits = [fit_state_space(np.arange(0.0, 30.0 + dt / 2, dt), damped_kernel(np.arange(0.0, 30.0 + dt / 2, dt)),
+                            omega_max=6.0, tolerance=1e-6, kernel_function=damped_kernel) for dt in (0.05, 0.01)]
+    assert fits[0].order == fits[1].order == 8
+    np.testing.assert_allclose(fits[0].impulse_response(np.linspace(0, 20, 101)),
+                               fits[1].impulse_response(np.linspace(0, 20, 101)), rtol=0, atol=1e-12)
+
+
+def test_the_sampling_resolves_the_damping_above_the_database() -> None:
+    """B continued above the database's last frequency (the tail) puts content in K(t) above omega_max: the sample
+    step shrinks until the table above pi / (2 D) holds at most (tolerance / 4)^2 of B's energy, and not below
+    pi / (2 omega_max) for a table without content beyond it."""
+    omega = np.linspace(0.1, 4.0, 40)
+    peak = np.exp(-((omega - 1.5) ** 2))[:, None, None] * np.ones((1, 1, 1))
+    assert sampling_step(omega, peak, 4.0, 0.01, 30.0) == pytest.approx(np.pi / 8)
+    from hydro_fmu.radiation import damping_tail
+
+    w, b = damping_tail(omega, peak + 0.3 * np.exp(-((omega - 4.0) ** 2))[:, None, None], 3.0)
+    d = sampling_step(w, b, 4.0, 0.01, 30.0)
+    energy = np.cumsum(np.concatenate([[0.0], 0.5 * (b[1:, 0, 0] ** 2 + b[:-1, 0, 0] ** 2) * np.diff(w)]))
+    above = 1 - np.interp(np.pi / (2 * d), w, energy) / energy[-1]
+    assert d < np.pi / 8 and above <= (0.01 / 4) ** 2 * 1.01
+
+
+def test_coordinates_that_cannot_move_get_no_states() -> None:
+    """F3OF DT3: the fixed base's surge is on the hydro interface but never moves; the fit gives its column no
+    states (the fit failed on that block before, at every tolerance). The flaps' heave moves only to second order
+    at the start pose (pitch about a hinge below the cg) and is kept."""
+    from orchestrator.scene.still import still_coordinates
+
+    s = load_scenario(SCENARIOS / "f3of_dt3.toml")
+    s.hydro.radiation_method = "state_space"
+    s.hydro.state_space_tolerance = 0.02
+    scene = load_scene(s, log=None)
+    assert still_coordinates(scene) == [("base", 0)]
+    model = scene.hydro_model()
+    base = model.labels.index("base surge")
+    assert not np.any(model.state_space.b[:, base]) and np.any(model.state_space.c[base])  # no memory, still a force
+    assert not model.state_space.convolution_blocks and model.report.frequency_error < 0.05
+    hinge = load_scene(load_scenario(SCENARIOS / "hinge_barge.toml"), log=None)
+    hinge.scenario.hydro.radiation_method = "state_space"
+    assert still_coordinates(hinge) == []

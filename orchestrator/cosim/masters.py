@@ -26,9 +26,15 @@ Masters (all steps of length h from t_n to t_{n+1}; measured orders in ``docs/ma
   (Degroote et al. 2009, least-squares secant model from the residual differences of the current
   and ``reuse`` previous steps; ``solver="iqn_ils"``). Converged, it is the implicit scheme whose
   integrator input is the step average of the interpolant through the consistent u_{n+1}:
-  order 1 (p = 0) or 2; stable for strong coupling as long as the solver converges. Tolerance:
-  max over interface variables of |residual| / (running max |value|), iteration cap
-  ``max_iterations`` (a :class:`MasterError` beyond it).
+  order 1 (p = 0) or 2; stable for strong coupling as long as the solver converges. Convergence test, on the
+  residual r = y - x of the integrators' outputs y at t_{n+1} from the iterate x: for every interface variable i,
+  |r_i| <= max(``tolerance`` S_i, ``precision``), S_i the largest magnitude reached so far (at any communication
+  point or in y) by the interface variables of i's kind (the same FMU and unit: positions of every body against
+  each other, velocities likewise; a fixed body's round-off is measured against the moving bodies, not against
+  itself), ``precision`` the integrating FMU's own accuracy (10 times its Newton tolerance times the scene's
+  length scale for the constrained formulations, none for the linear model): below it the iterates only carry
+  that solver's noise. The solvers' least squares and dot products weigh each variable by 1 / S_i. Iteration
+  cap ``max_iterations`` (a :class:`MasterError` beyond it).
 * :class:`SimpleJacobiMaster` - the fixed-step Jacobi of generic FMI hosts (fmpy's SSP
   simulator, libcosim's fixedStep): zero-order hold, outputs read right after each step (a
   feedthrough output then uses the inputs of the previous point). Kept to check exported SSP
@@ -96,6 +102,7 @@ class MasterSettings:
     reuse: int = 4
     divergence_limit: float = 1e8
     energy_scale: float = 1.0  # J: the scene's own energy scale (weight of its bodies times a length)
+    precision: float = 0.0  # iterative masters: absolute accuracy of the integrating FMU's outputs (its solver's)
 
 
 @dataclass

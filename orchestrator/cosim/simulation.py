@@ -27,6 +27,7 @@ from orchestrator.scenario import DOFS, Scenario, parse_scenario
 from orchestrator.scenario.input_checks import check_output
 from orchestrator.scene import HYDRO, Scene, load_scene
 
+from . import error_estimate, step_choice
 from .control_loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .interrupts import InterruptAtStep
@@ -34,6 +35,7 @@ from .master_factory import make_master
 from .masters import Master, MasterSettings
 from .monolithic import MonolithicMaster
 from .recorder import Recorder  # noqa: F401 - (also imported from here)
+from .step_checks import aliasing_warnings
 from .step_control import EnergyStepController, FixedStepController, StepController
 
 
@@ -81,6 +83,8 @@ class RunResult:
     notes: list[str] = field(default_factory=list)
     mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
     power_window: str = ""
+    error_estimate: error_estimate.ErrorEstimate | None = None
+    step_choice: step_choice.StepChoice | None = None  # simulation.error_tolerance's runs
     setup_time: float = math.nan  # s of wall time before the first step: scene, FMUs (build, compile), initialisation
     radiation_check: Callable[[], str] | None = None  # the impulse-response check's summary text, when printed
 
@@ -118,6 +122,7 @@ class RunPlan:
     control: ControlLoop | None = None
     radiation: dict = field(default_factory=dict)
     mobility: dict | None = None
+    warnings: list[str] = field(default_factory=list)  # said in the run's first lines and its summary
     started: float = field(default_factory=time.perf_counter)  # perf_counter when the run's set-up began
 
     @property
@@ -143,7 +148,18 @@ def master_settings(scenario: Scenario, scene: Scene | None = None) -> MasterSet
     return MasterSettings(extrapolation=sim.extrapolation, tolerance=sim.tolerance,
                           max_iterations=sim.max_iterations, relaxation=sim.relaxation, reuse=sim.iqn_reuse,
                           divergence_limit=sim.divergence_limit,
-                          energy_scale=energy_scale(scene) if scene is not None else 1.0)
+                          energy_scale=energy_scale(scene) if scene is not None else 1.0,
+                          precision=multibody_precision(scenario))
+
+
+def multibody_precision(scenario: Scenario) -> float:
+    """Absolute accuracy of the multibody FMU's outputs (m, rad, m/s, rad/s): 10 times its Newton tolerance times
+    its length scale (the larger of 1 m and the farthest centre of gravity, ``mbd_fmu.formulations``) for the
+    constrained formulations; 0 for the linear model (exact steps) and the plain multibody FMU (explicit steps)."""
+    if scenario.formulation == "linear" or scenario.simulation.added_mass == "interface":
+        return 0.0
+    length = max([1.0] + [float(np.max(np.abs(b.cg))) for b in scenario.bodies])
+    return 10 * scenario.multibody.newton_tolerance * length
 
 
 def energy_scale(scene: Scene) -> float:
@@ -202,7 +218,11 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     report = mobility(scene)
     if report and log is not None:
         log(f"multibody: {report['summary']}")
-    return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+    plan = RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+    plan.warnings = aliasing_warnings(scene)
+    for message in plan.warnings if log is not None else []:
+        log(f"warning: {message}")
+    return plan
 
 
 # CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
@@ -290,6 +310,10 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
+    if sim.error_tolerance:  # runs at chosen steps (orchestrator.cosim.step_choice)
+        return step_choice.run_to_tolerance(
+            scenario, path, lambda s, out: run_scenario(s, out, in_process=in_process, log=log, progress=progress,
+                                                         scene=scene), log)
     plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     plan.started = started
     try:
@@ -307,6 +331,8 @@ def run_scenario(
             plan.control.start()
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
         plan.radiation = radiation_report(plan)
+        for message in plan.radiation.get("warnings", []) if log is not None else []:
+            log(f"warning: {message}")
     except BaseException as exc:
         plan.master.terminate()
         extra = {"control_statistics": plan.control.close("failed")} if plan.control else None
@@ -444,7 +470,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     except OSError as exc:  # the last rows could not be flushed
         _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
-                       radiation=plan.radiation, mobility=plan.mobility, setup_time=setup)
+                       radiation=plan.radiation, mobility=plan.mobility, setup_time=setup,
+                       notes=[f"warning: {w}" for w in plan.warnings])
     if plan.radiation.get("method") == "convolution" and "frequency_error" in plan.radiation:
         scene, reported = plan.scene, plan.radiation["frequency_error"]
         # computed when the summary is printed (0.3-8 s on constrained scenes): sweeps and benchmarks skip it
@@ -465,6 +492,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
+    result.error_estimate = error_estimate.for_run(plan.scene, writer.path, _quiet_run, data)
     if scenario._duration_note:
         result.notes.append(scenario._duration_note)
     if scenario.waves.kind == "elevation":
@@ -472,6 +500,12 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         result.notes.append(f"waves: elevation record {record.source} read as {record.form} "
                             f"({len(record.eta)} samples every {record.dt:g} s)")
     return result
+
+
+def _quiet_run(scenario: Scenario, output: Path, scene: Scene) -> RunResult:
+    """A run of ``scenario`` into ``output`` with its slaves in process and nothing printed (the coarse shadow of
+    :mod:`.error_estimate`)."""
+    return run_scenario(scenario, output, in_process=True, log=None, progress=False, scene=scene)
 
 
 def control_notes(stats: dict | None, fallback: str) -> list[str]:
@@ -514,19 +548,23 @@ def _final_attrs(plan: RunPlan, state: str) -> dict:
 
 
 def radiation_report(plan: RunPlan) -> dict:
-    """The radiation model's report (method, state-space order and errors): from the hydro FMU, or
-    from the in-process model of the monolithic mode."""
+    """The radiation model's report (method, state-space order and errors, and the hydro model's warnings: state-space
+    blocks left to the convolution, impulse-response accuracy): from the hydro FMU, or from the in-process model of
+    the monolithic mode."""
     method = plan.scene.scenario.hydro.radiation_method
     hydro = getattr(plan.master, "hydro", None)
     if hydro is not None:  # monolithic: the physics object itself
         r = hydro.report
-        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error}
+        return {"method": method, "order": r.order, "fit_error": r.kernel_error, "frequency_error": r.frequency_error,
+                "warnings": list(r.warnings)}
     comp = plan.master.components.get(HYDRO) if hasattr(plan.master, "components") else None
     names = ["radiation.order", "radiation.fit_error", "radiation.frequency_error"]
     if comp is None or any(n not in comp.variables for n in names):
         return {}
     order, fit_error, frequency_error = (float(v) for v in comp.get_reals(comp.port(names)))
-    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error}
+    warnings = [w for w in comp.warnings() if w.startswith("radiation")] if hasattr(comp, "warnings") else []
+    return {"method": method, "order": int(order), "fit_error": fit_error, "frequency_error": frequency_error,
+            "warnings": warnings}
 
 
 def _run_statistics(plan: RunPlan) -> dict:
@@ -655,9 +693,14 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g} (relative 2-norm, no unit)")
+    lines += [f"warning: {w}" for w in r.get("warnings", [])]
     if result.mean_power and not result.comparisons:  # (compared with the exact answer: in the table above)
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes
+    if result.error_estimate is not None:
+        lines.append(result.error_estimate.text())
+    if result.step_choice is not None:
+        lines.append(result.step_choice.text())
     setup = f"set-up {result.setup_time:.2f} s (scene, FMUs, initialisation), " if math.isfinite(
         result.setup_time) else ""
     lines.append(

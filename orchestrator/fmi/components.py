@@ -70,6 +70,7 @@ class VariableInfo:
 # fmpy's native logger proxy keeps a single Python logger for the whole process, so one logger
 # serves every FMU instance and files each message under the instance name it comes with.
 _LOGS: dict[str, deque] = {}
+_WARNINGS: dict[str, list[str]] = {}  # messages logged with status fmi2Warning, by instance name
 _INSTANCE_IDS = itertools.count(1)
 _CALLBACKS: list[fmi2CallbackFunctions] = []
 
@@ -81,7 +82,10 @@ def _callbacks() -> fmi2CallbackFunctions:
 
         def logger(component, instance, status, category, message):  # noqa: ANN001
             name = instance.decode("utf-8", "replace") if instance else ""
-            _LOGS.setdefault(name, deque(maxlen=50)).append(message.decode("utf-8", "replace"))
+            text = message.decode("utf-8", "replace")
+            _LOGS.setdefault(name, deque(maxlen=50)).append(text)
+            if status == 1 and len(_WARNINGS.setdefault(name, [])) < 100:  # fmi2Warning
+                _WARNINGS[name].append(text.replace("%%", "%"))
 
         cb = fmi2CallbackFunctions()
         cb.logger = fmi2CallbackLoggerTYPE(logger)
@@ -165,6 +169,10 @@ class FmuComponent(_Base):
             out.append(m)
         return " | ".join(out[-3:]) if out else (fallback or "no message from the FMU")
 
+    def warnings(self) -> list[str]:
+        """The messages the FMU logged with status warning so far (the first 100)."""
+        return list(_WARNINGS.get(self.instance_name, []))
+
     def setup(self, start_time: float, stop_time: float | None = None) -> None:
         self._call("setupExperiment", self.fmu.setupExperiment, startTime=start_time, stopTime=stop_time)
 
@@ -224,6 +232,7 @@ class FmuComponent(_Base):
             self.dead = True
         _forget_path(Path(self._unzip) / "resources")  # PythonFMU put it on sys.path
         _LOGS.pop(self.instance_name, None)
+        _WARNINGS.pop(self.instance_name, None)
         shutil.rmtree(self._unzip, ignore_errors=True)
 
 
@@ -264,6 +273,12 @@ class InProcessComponent(_Base):
             if record.msg not in out:
                 out.append(record.msg)
         return " | ".join(m.replace("%%", "%") for m in out[-3:]) if out else (fallback or "no message from the FMU")
+
+    def warnings(self) -> list[str]:
+        """The messages the slave logged with status warning so far."""
+        from pythonfmu.enums import Fmi2Status
+
+        return [r.msg.replace("%%", "%") for r in self.slave.log_queue if r.status == Fmi2Status.warning]
 
     def setup(self, start_time: float, stop_time: float | None = None) -> None:
         self._call("setupExperiment", self.slave.setup_experiment, start_time, stop_time, None)

@@ -130,7 +130,7 @@ def fit_decay(t: np.ndarray, x: np.ndarray, n_modes: int, window: tuple[float, f
 class ModalImpedance:
     """Z(w) of a scene on its constraint null space at real or complex frequencies (module docstring)."""
 
-    def __init__(self, scene: Scene, dt: float | None = None) -> None:
+    def __init__(self, scene: Scene, dt: float | None = None, radiation: str = "impulse_response") -> None:
         self.scene = scene
         self.dt = dt or scene.scenario.simulation.step
         self.mech = mechanical_matrices(scene)
@@ -139,6 +139,17 @@ class ModalImpedance:
         self.kernel = scene_kernel(scene, self.dt, scene.scenario.hydro.irf_duration)
         idx = scene.hydro_index()
         self.a_inf = scene.hdb.added_mass_inf[np.ix_(idx, idx)]
+        self.fit = None  # radiation = "state_space": the scene's fit (None when it fell back: the kernel)
+        if radiation == "state_space":
+            self.fit = scene.hydro_model(dt=self.dt).state_space
+
+    def _coefficients(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A, B at (complex) ``w`` of the kernel, or of the state-space fit (then A = A_inf and B = K^(w): only
+        -w^2 A + i w B enters Z)."""
+        if self.fit is None:
+            return kernel_coefficients(*self.kernel, self.a_inf, w)
+        k = self.fit.transfer(w) if self.fit.order else np.zeros((len(w), *self.a_inf.shape), complex)
+        return np.broadcast_to(self.a_inf, k.shape).astype(complex), k
 
     def _reduced(self, w: np.ndarray, **kwargs) -> np.ndarray:
         m = self.mech
@@ -149,8 +160,7 @@ class ModalImpedance:
     def __call__(self, omega: complex) -> np.ndarray:
         """Reduced Z (d, d) of the time-domain model's kernel at ``omega`` (rad/s, complex allowed)."""
         w = np.array([complex(omega)])
-        return self._reduced(w, radiation="impulse_response",
-                             coefficients=kernel_coefficients(*self.kernel, self.a_inf, w))[0]
+        return self._reduced(w, radiation="impulse_response", coefficients=self._coefficients(w))[0]
 
     def database(self, omega: complex, h: float = 1e-4) -> np.ndarray:
         """Reduced Z with the database's A, B, continued to first order off the real axis."""
@@ -224,10 +234,11 @@ def _roots(z, starts: np.ndarray, basis: np.ndarray, tolerance: float, max_itera
 
 
 def natural_modes(scene: Scene, *, dt: float | None = None, tolerance: float = 1e-13,
-                  max_iterations: int = 200) -> list[Mode]:
+                  max_iterations: int = 200, radiation: str = "impulse_response") -> list[Mode]:
     """Free modes of the scene's linear model with its time-domain kernel (module docstring), by damped
-    frequency. ``dt``: the kernel's sampling step (default the macro step)."""
-    z = ModalImpedance(scene, dt)
+    frequency. ``dt``: the kernel's sampling step (default the macro step); ``radiation = "state_space"``: with the
+    scene's state-space fit (and its blocks left to the convolution) in place of the kernel."""
+    z = ModalImpedance(scene, dt, radiation)
     modes = _roots(z, z.frozen_modes(), z.basis, tolerance, max_iterations)
     for m in modes:
         m.tail_weight = math.exp(max(m.omega.imag, 0.0) * z.kernel[0][-1])

@@ -94,6 +94,27 @@ def radiation_coefficients_from_irf(
     return kernel_coefficients(t, k, scene.hdb.added_mass_inf[np.ix_(idx, idx)], omega, omega_cut)
 
 
+def state_space_coefficients(scene: Scene, omega: np.ndarray, dt: float | None = None) -> tuple[np.ndarray,
+                                                                                                 np.ndarray]:
+    """A(omega), B(omega) (Nw, m, m) on the hydro coordinates of the scene's state-space radiation model: the fit's
+    transfer function K^(w) = C (i w I - A)^-1 B (``hydro_fmu.state_space``); B = Re K^, A = A_inf + Im K^ / w. A fit
+    that left a block to the convolution makes the whole model the convolution (the hydro model's
+    ``state_space`` is None): then the transform of the kernel sampled at ``dt`` (default the macro step).
+    The fit is made again here (the hydro FMU makes its own, the same)."""
+    dt = dt or scene.scenario.simulation.step
+    model = scene.hydro_model(dt=dt)
+    idx = scene.hydro_index()
+    a_inf = scene.hdb.added_mass_inf[np.ix_(idx, idx)]
+    fit = model.state_space
+    if fit is None:
+        t, kernel = scene_kernel(scene, dt, scene.scenario.hydro.irf_duration)
+        a_c, b_c = kernel_coefficients(t, kernel, np.zeros_like(a_inf), omega)
+        k = b_c + 1j * omega[:, None, None] * a_c  # int K exp(-i w t) dt = B - i int K sin = B + i w A
+    else:
+        k = fit.transfer(omega) if fit.order else np.zeros((len(omega), len(idx), len(idx)), complex)
+    return a_inf[None] + k.imag / omega[:, None, None], k.real
+
+
 def scene_kernel(scene: Scene, dt: float, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """Times (s) and the radiation impulse response K (nt, m, m) on the hydro coordinates, sampled as
     the time-domain model samples it (``hydro.irf_d_omega``, ``hydro.damping_tail``, the fitted tail correction)."""
@@ -259,8 +280,10 @@ def _impedance(scene: Scene, omega: np.ndarray, mass: np.ndarray, damping: np.nd
     elif radiation == "database":
         A, B, _ = hdb.interpolate(omega, np.radians(heading))
         A, B = A[:, idx][:, :, idx], B[:, idx][:, :, idx]
+    elif radiation == "state_space":
+        A, B = state_space_coefficients(scene, omega, dt)
     else:
-        raise ValueError(f"radiation must be 'database' or 'impulse_response', not {radiation!r}")
+        raise ValueError(f"radiation must be 'database', 'impulse_response' or 'state_space', not {radiation!r}")
     if not switches.radiation:  # memory force off: only A_inf remains (in the multibody mass matrix)
         A = np.broadcast_to(hdb.added_mass_inf[np.ix_(idx, idx)], A.shape)
         B = np.zeros_like(B)

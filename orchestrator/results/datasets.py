@@ -296,6 +296,8 @@ def _results_from(data: dict[str, np.ndarray], ds_attrs: dict[str, dict], attrs:
         value = np.asarray(data[name])
         dims = ("time",) + tuple(f"{var}_{i}" for i in range(1, value.ndim)) if len(value) == len(t) and \
             value.ndim >= 1 else tuple(f"{var}_{i}" for i in range(value.ndim))
+        if name.startswith("error_estimate/shadow/"):  # the error estimate's coarse shadow: its own time grid
+            dims = ("shadow_time",) + (("dof",) if value.ndim == 2 and value.shape[1] == 6 else dims[1:])
         unit = _text(ds_attrs.get(name, {}).get("unit", ""))
         variables[var] = (dims, value, {"long_name": name, "units": unit, "hdf5_path": name})
     return xr.Dataset(variables, coords=coords, attrs=dict(attrs))

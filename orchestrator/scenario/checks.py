@@ -116,6 +116,11 @@ def check_simulation(s: Scenario) -> None:
             f"time rate, held over the step: it needs master = 'jacobi', extrapolation = 0, the default added_mass "
             f"and a fixed step (no [simulation.adaptive]) (got {sim.master!r}, {sim.extrapolation}, "
             f"{sim.added_mass!r})")
+    if sim.error_tolerance and (sim.error_estimate == "none" or sim.adaptive.enabled
+                                            or s.control.mode != "off"):
+        raise ScenarioError(
+            f"{f}: simulation.error_tolerance chooses a fixed macro step from the run's error estimate: it needs "
+            "simulation.error_estimate = 'richardson', no [simulation.adaptive] and no [control]")
     a = sim.adaptive
     if a.enabled and a.max_step < sim.step:
         raise ScenarioError(f"{f}: simulation.adaptive.max_step ({a.max_step} s) is smaller than simulation.step "

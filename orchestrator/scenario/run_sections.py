@@ -11,6 +11,10 @@ from .schema import non_negative, option, positive
 from .sea_sections import FrequencyGrid
 
 
+def _tolerance(value: float) -> str | None:
+    return None if 0 <= value < 1 else "must be at least 0 and below 1"
+
+
 def _order(value: int) -> str | None:
     return None if value in (0, 1, 2) else "must be 0, 1 or 2"
 
@@ -71,8 +75,8 @@ class SimulationSection:
             "`interface`: a third-party-style multibody FMU without A_inf, the added-mass force solved within "
             "each step (needs an iterative master)")
     tolerance: float = option(1e-10, check=positive,
-                              doc="iterative masters: largest interface residual relative to each variable's "
-                                  "running maximum")
+                              doc="iterative masters: largest interface residual relative to the largest magnitude "
+                                  "reached so far by the interface variables of its kind (same FMU, same unit)")
     max_iterations: int = option(50, check=positive, doc="iterative masters: iteration cap per step")
     relaxation: float = option(0.5, check=positive,
                                doc="iterative masters: first relaxation factor (Aitken's start, IQN-ILS's first "
@@ -96,6 +100,17 @@ class SimulationSection:
     steady_periods: float = option(
         10.0, check=positive,
         doc="number of wave periods at the end of the run used for the steady-state amplitude, phase and power")
+    error_estimate: str = option(
+        "richardson", choices=("richardson", "none"),
+        doc="the run's error estimate (summary and results file): `richardson`, against a coarse shadow run at "
+            "twice the step (about half the run's cost more) plus the radiation model's share from the frequency "
+            "domain; `none`")
+    error_tolerance: float = option(
+        0.0, check=_tolerance,
+        doc="choose the macro step (fixed for the run, a whole fraction of the duration) so that the error "
+            "estimate is at most this (relative): runs at `step` first, then at the step the estimate's order "
+            "predicts, until the estimate meets it; the summary reports the steps tried and the estimates; 0 = off "
+            "(`step` as given)")
 
     @property
     def iterative(self) -> bool:

@@ -162,9 +162,21 @@ class Scene:
             radiation_method=h.radiation_method, irf_d_omega=h.irf_d_omega, damping_tail=h.damping_tail,
             tail_correction=self.tail_correction(),
             state_space_tolerance=h.state_space_tolerance, state_space_max_order=h.state_space_max_order,
-            excitation_method=h.excitation_method, excitation_irf_duration=h.excitation_irf_duration,
+            still=tuple(self.still_coordinates()), excitation_method=h.excitation_method,
+            excitation_irf_duration=h.excitation_irf_duration,
             nonlinear_hydrostatics=h.nonlinear_hydrostatics, nonlinear_froude_krylov=h.nonlinear_froude_krylov,
             meshes=self.hull_meshes(), viscous=self.viscous())
+
+    def still_coordinates(self) -> list[tuple[str, int]]:
+        """(body, DOF) of the hydrodynamic coordinates that cannot move (:mod:`orchestrator.scene.still`), for the
+        state-space fit (computed once; empty unless the radiation is a state space)."""
+        if self.scenario.hydro.radiation_method != "state_space":
+            return []
+        if not hasattr(self, "_still"):
+            from .still import still_coordinates
+
+            self._still = still_coordinates(self)
+        return self._still
 
     def hydro_model(self, dt: float | None = None):
         """The scene's :class:`hydro_fmu.model.HydroModel` in-process (what the hydro FMU computes)."""
@@ -296,7 +308,8 @@ class Scene:
                           "irf_d_omega": h.irf_d_omega, "damping_tail": h.damping_tail,
                           "tail_correction": _correction_json(self.tail_correction()),
                           "state_space_tolerance": h.state_space_tolerance,
-                          "state_space_max_order": h.state_space_max_order},
+                          "state_space_max_order": h.state_space_max_order,
+                          "still": [list(c) for c in self.still_coordinates()]},
             "excitation": {"method": h.excitation_method, "irf_duration": h.excitation_irf_duration},
             "nonlinear": {"hydrostatics": h.nonlinear_hydrostatics, "froude_krylov": h.nonlinear_froude_krylov,
                           "meshes": MESH_RESOURCE if MESH_RESOURCE in names else ""},

@@ -177,7 +177,7 @@ def run_map(spec: MapSpec, quick: bool, log: Callable[[str], None] = print) -> S
             for step in steps:
                 variant = spec.base.with_(*series.overrides, *spec.hardness_overrides(scene, h, step),
                                           f"simulation.step={step:g}")
-                p = run_point(variant, errors.regular_wave_error)
+                p = run_point(variant, errors.regular_wave_error, shadow=False)
                 log(_point_line(spec, series.label, h, step, p))
                 row.append(p)
             rows.append(row)
@@ -294,7 +294,7 @@ def long_run(quick: bool, log: Callable[[str], None] = print) -> LongRun:
     duration = 1200.0 if quick else 10800.0
     window = duration / 3 if quick else 3600.0
     variant = Variant("scenarios/hinge_barge.toml", (*LONG_SEA, f"simulation.duration={duration:g}"))
-    p = run_point(variant, measures=_long_run_measures(window))
+    p = run_point(variant, measures=_long_run_measures(window), shadow=False)
     run = LongRun(f"Hinge barge (Paparella et al.) in a JONSWAP sea Hs 0.02 m Tp 2 s for {duration:g} s", p, window,
                   **{k: p.extra[k] for k in ("max_violation", "first_violation", "last_violation",
                                              "energy_residual", "largest_energy_residual") if k in p.extra})

@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+# a point's message when the state-space fit fell back
+CONVOLUTION_BLOCKS = "state-space blocks no order fits (the radiation ran as the convolution)"
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,7 @@ class Point:
         wall_time: wall-clock seconds of the stepping loop (initialisation excluded); NaN if it did not start.
         simulated: simulated seconds reached.
         error: the case's error measure (dimensionless, relative), NaN unless ``ok``.
+        estimate: the run's own estimate of that error (:mod:`orchestrator.cosim.error_estimate`), NaN if none.
         message: the run's own message when it did not finish, else notes of the error measure.
         extra: other figures of the run (a ``measures`` function's, e.g. the long run's constraint drift).
     """
@@ -63,6 +66,7 @@ class Point:
     wall_time: float
     simulated: float
     error: float = math.nan
+    estimate: float = math.nan
     message: str = ""
     extra: dict[str, float] = field(default_factory=dict)
 
@@ -79,13 +83,17 @@ ErrorMeasure = Callable[["object", dict, "object"], float]  # (scene, results da
 Measures = Callable[["object", dict, "object"], dict[str, float]]  # (scene, results data, RunResult) -> figures
 
 
-def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None) -> Point:
+def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: Measures | None = None,
+              estimate: ErrorMeasure | None = None, shadow: bool = True) -> Point:
     """Run ``variant`` (through fmpy, the product's default path, unless ``variant.in_process``) and score it with
     ``error``.
 
     The results file goes to a temporary folder; the scene (hydro database, fits) comes from the caches, so
     a point costs its FMUs' start-up plus the stepping loop. ``measures``, if given, reads more figures from
-    the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`."""
+    the finished run's results (e.g. a long run's constraint drift) into :attr:`Point.extra`; ``estimate`` scores
+    the run's own estimate of ``error`` into :attr:`Point.estimate`. ``shadow=False``: the run makes no error estimate
+    (``simulation.error_estimate = "none"``, for the parts that measure stability or speed alone: the stepping loop is
+    the same, the report takes less time)."""
     from orchestrator.cosim.simulation import run_scenario
     from orchestrator.errors import WecCosimError
     from orchestrator.results import read_results
@@ -93,7 +101,8 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
     from orchestrator.scene import load_scene
 
     try:
-        scenario = apply_overrides(load_scenario(ROOT / variant.scenario), list(variant.overrides))
+        scenario = apply_overrides(load_scenario(ROOT / variant.scenario),
+                                   list(variant.overrides) + ([] if shadow else ["simulation.error_estimate=none"]))
         scene = load_scene(scenario, log=None)
     except WecCosimError as exc:  # the settings do not apply to this scene (e.g. monolithic with joints)
         return Point(variant, "unavailable", math.nan, 0.0, message=" ".join(str(exc).split())[:300])
@@ -105,11 +114,26 @@ def run_point(variant: Variant, error: ErrorMeasure | None = None, *, measures: 
             return _unfinished(variant, classify(exc), out, exc)
         data = read_results(result.path)
         point = Point(variant, "ok", result.wall_time, result.simulated_time)
+        blocks = [w for w in result.radiation.get("warnings", []) if "the radiation is the convolution" in w]
+        if blocks:
+            point.message = f"{CONVOLUTION_BLOCKS}: " + "; ".join(w.split(" reaches")[0].split("fit of ")[-1]
+                                                                 for w in blocks)
         if error is not None:
             try:
                 point.error = float(error(scene, data, result))
             except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
                 point.message = f"error measure failed: {exc}"
+        if estimate is not None:
+            try:
+                point.estimate = float(estimate(scene, data, result))
+            except (ValueError, ArithmeticError, KeyError, IndexError, StopIteration) as exc:
+                point.message += f" error estimate failed: {exc}"
+            e = getattr(result, "error_estimate", None)
+            if e is not None and not e.available:
+                point.message += f" no error estimate: {e.method}"
+            elif e is not None:
+                point.extra["shadow_wall_time"] = e.shadow_wall_time
+                point.extra["shadow_distance"] = e.shadow_distance
         if measures is not None:
             point.extra.update(measures(scene, data, result))
     return point

@@ -19,10 +19,12 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 
+from orchestrator.cosim.error_estimate import ASYMPTOTIC
+
 from . import anchors, scaling
 from .cases import CASES
 from .machine import load_text
-from .points import ROOT, Point
+from .points import CONVOLUTION_BLOCKS, ROOT, Point
 from .reduction import reduction_rows
 from .work_precision import Curve, PointCache, case_curves, default_point, fastest_within, figure
 
@@ -45,6 +47,8 @@ class Report:
         self.csv_rows.append({"part": part, **{k: labels.get(k, "") for k in ("case", "factor", "option", "step")},
                               "status": point.status, "wall_s": _num(point.wall_time),
                               "rtf": _num(point.real_time_factor), "error": _num(point.error),
+                              "estimate": _num(point.estimate),
+                              "shadow_distance": _num(point.extra.get("shadow_distance", math.nan)),
                               "simulated_s": _num(point.simulated), "message": point.message,
                               "command": point.variant.command()})
 
@@ -91,7 +95,9 @@ def build(out: Path, quick: bool, log: Callable[[str], None] = print, command: s
         rep.first_screen = recommended(curves, cache, quick)
         return work_precision_section(curves)
 
-    parts = (("work-precision", work_precision), ("model reduction", lambda: reduction_section(rep, quick, log)),
+    parts = (("work-precision", work_precision),
+             ("error tolerance", lambda: tolerance_section(rep, curves, quick, log)),
+             ("model reduction", lambda: reduction_section(rep, quick, log)),
              ("hard cases", lambda: hard_cases_section(rep, out, quick, log, plt)),
              ("scaling", lambda: scaling_section(rep, out, quick, log, plt)),
              ("anchors", lambda: anchors_section(rep, log)))
@@ -117,26 +123,37 @@ def run_parts(rep: Report, parts, out: Path, log: Callable[[str], None]) -> None
 
 
 def recommended(curves: dict[str, list[Curve]], cache: PointCache, quick: bool) -> list[str]:
-    """The first screen: the defaults, what they give per case, and the fastest settings within 1 %."""
+    """The first screen: the defaults, what they give per case (the true error and the run's own estimate of it),
+    and the fastest settings within 1 %."""
     lines = ["## Recommended settings", "",
              "Use the scenario defaults: `simulation.master = \"jacobi\"` with `extrapolation = 2` (one call per FMU "
              "per macro step), the infinite-frequency added mass in the multibody mass matrix "
              "(`simulation.added_mass = \"mass_matrix\"`: stable at any mass ratio, see the hard cases), "
              "`multibody.formulation = \"index3\"` for jointed scenes and the radiation convolution, at the step the "
-             "bundled scenario gives (about T/100 of the wave or natural period). What they give on each case, and "
-             "the fastest point of this report within 1 % error:", "",
-             "| case | defaults: step | RTF | error | fastest within 1 %: settings | RTF | error |",
-             "|---|---|---|---|---|---|---|"]
+             "bundled scenario gives (about T/100 of the wave or natural period), or let the run choose the step for "
+             "an error with `simulation.error_tolerance` (below). What they give on each case, and the fastest point "
+             "of this report within 1 % error; beside each true error, the run's own estimate of it (every run "
+             "prints one: Richardson extrapolation against a coarse shadow at twice the step plus the radiation "
+             "model's share, `orchestrator/cosim/error_estimate.py`):", "",
+             "| case | defaults: step | RTF | error | estimate | fastest within 1 %: settings | RTF | error "
+             "| estimate |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for case in CASES:
         d = default_point(case, quick, cache)
         f = fastest_within(curves[case.name], TOLERANCE)
         settings = ", ".join(o for o in f.variant.overrides if o not in case.variant(quick).overrides) if f else ""
-        fast = (f"`{settings}` | {f.real_time_factor:.0f} | {100 * f.error:.3g} %" if f else "none | | ")
-        lines.append(f"| {case.name} | {case.default_step:g} s | {d.real_time_factor:.0f} | {100 * d.error:.3g} % | "
-                     f"{fast} |")
-    lines += ["", "Error measures (each against an answer independent of the time stepping):", ""]
+        fast = (f"`{settings}` | {f.real_time_factor:.0f} | {_pct(f.error)} | {_pct(f.estimate)}" if f
+                else "none | | | ")
+        lines.append(f"| {case.name} | {case.default_step:g} s | {d.real_time_factor:.0f} | {_pct(d.error)} | "
+                     f"{_pct(d.estimate)} | {fast} |")
+    lines += ["", "Error measures (each against an answer independent of the time stepping; each estimate is the "
+              "run's estimate of the same measure, made without that answer):", ""]
     lines += [f"- **{case.name}**: {case.error_name}." for case in CASES]
     return lines
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.3g} %" if math.isfinite(x) else "n/a"
 
 
 def work_precision_section(curves: dict[str, list[Curve]]) -> str:
@@ -149,14 +166,81 @@ def work_precision_section(curves: dict[str, list[Curve]]) -> str:
         base = curves[case.name][0].points[0].variant.with_("simulation.step=H")
         lines += [f"### {case.title}", "", f"![{case.name}](figures/work_precision_{case.name}.png)", "",
                   f"Each point: `{base.command()}` plus the option's own `--set` items (the table's rows; every "
-                  "point's exact command is in points.csv). Error: " + case.error_name + ".", "",
-                  "| factor | option | " + " | ".join(f"h = {h:g} s: RTF / error" for h in curves[case.name][0].steps)
+                  "point's exact command is in points.csv). Error: " + case.error_name + "; in brackets the run's "
+                  "own estimate of it.", "",
+                  "| factor | option | " + " | ".join(f"h = {h:g} s: RTF / error (estimate)"
+                                                    for h in curves[case.name][0].steps)
                   + " |", "|---|---|" + "---|" * len(curves[case.name][0].steps)]
+        fallback, unreliable = set(), False
         for c in curves[case.name]:
-            cells = [f"{p.real_time_factor:.0f} / {100 * p.error:.2g} %" if p.stable else f"**{p.status}**"
-                     for p in c.points]
+            cells = []
+            for p in c.points:
+                mark = ""
+                if p.message.startswith(CONVOLUTION_BLOCKS):
+                    mark = " †"
+                    fallback.add(p.message)
+                far = "*" if p.extra.get("shadow_distance", 0.0) > ASYMPTOTIC else ""
+                unreliable |= bool(far)
+                cells.append(f"{p.real_time_factor:.0f} / {100 * p.error:.2g} % ({_short(p.estimate)}{far}){mark}"
+                             if p.stable else f"**{p.status}**")
             lines.append(f"| {c.factor} | {c.option} | " + " | ".join(cells) + " |")
+        if unreliable:
+            lines += ["", f"* The run's coarse shadow (twice the step) was more than {100 * ASYMPTOTIC:g} % away from "
+                      "it: outside the range where the error scales with the step, the run says its estimate is not "
+                      "reliable (the step is near a stability limit or far from convergence)."]
+        if fallback:
+            lines += ["", "† The state-space fit could not reach the tolerance within `hydro.state_space_max_order` "
+                      "for some blocks, which the run left to the convolution and named in its first lines: "
+                      + " / ".join(sorted(m.split(": ", 1)[1] for m in fallback)) + "."]
         lines.append("")
+    return "\n".join(lines)
+
+
+def _short(x: float) -> str:
+    return f"{100 * x:.2g} %" if math.isfinite(x) else "n/a"
+
+
+TOLERANCES = (0.01, 0.001)  # simulation.error_tolerance values of the report (quick: the first)
+
+
+def tolerance_section(rep: Report, curves: dict[str, list[Curve]], quick: bool, log: Callable[[str], None]) -> str:
+    """``simulation.error_tolerance`` on the cases whose run estimate is the case's own measure: the step chosen, the
+    true error reached, the wall time of every run it made (with their shadows and initialisations) and of the run
+    kept, beside the fastest point of the work-precision curves within the same error."""
+    from .errors import run_estimate
+    from .points import run_point
+
+    lines = ["## Error tolerance", "",
+             "`simulation.error_tolerance = TOL`: the run chooses its macro step from its own error estimate (first at "
+             "the scenario's step, then at the step the estimate's order predicts, until the estimate meets TOL; "
+             "`orchestrator/cosim/step_choice.py`). Beside it, the fastest point of the curves above whose true error "
+             "meets the same tolerance (chosen by hand, knowing the exact answer; its wall time is its stepping loop "
+             "alone).", "",
+             "| case | tolerance | step chosen (steps tried: estimate) | true error | estimate | wall time: all runs "
+             "(run kept, stepping) | fastest point within it: settings | its wall time (stepping) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for case in (c for c in CASES if c.estimate is run_estimate):
+        for tol in TOLERANCES[:1] if quick else TOLERANCES:
+            variant = case.variant(quick).with_(f"simulation.error_tolerance={tol:g}")
+            log(f"error tolerance {tol:g}: {case.name}")
+            choice: dict = {}
+
+            def keep(scene, data, result, into=choice) -> dict:  # noqa: ANN001
+                into["choice"] = result.step_choice
+                return {"all_runs_s": sum(a.wall_time for a in result.step_choice.attempts)}
+
+            p = run_point(variant, case.error, estimate=case.estimate, measures=keep)
+            rep.record("error_tolerance", p, case=case.name, option=f"error_tolerance={tol:g}")
+            best = fastest_within(curves.get(case.name, []), tol)
+            best_text = (f"`{', '.join(o for o in best.variant.overrides if o not in case.variant(quick).overrides)}`"
+                         f" | {best.wall_time:.2f} s" if best else "none | ")
+            c = choice.get("choice")
+            if not p.stable or c is None:
+                lines.append(f"| {case.name} | {_pct(tol)} | **{p.status}**: {p.message[:100]} | | | | {best_text} |")
+                continue
+            tried = ", ".join(f"{a.step:.4g} s: {_pct(a.estimate)}" for a in c.attempts)
+            lines.append(f"| {case.name} | {_pct(tol)} | {c.step:.4g} s ({tried}) | {_pct(p.error)} | "
+                         f"{_pct(p.estimate)} | {p.extra['all_runs_s']:.2f} s ({p.wall_time:.2f} s) | {best_text} |")
     return "\n".join(lines)
 
 

@@ -55,7 +55,7 @@ def scene_scaling(quick: bool, log: Callable[[str], None] | None = print) -> lis
         points = {}
         for mode, overrides, in_process in MODES:
             v = base.with_(*overrides)
-            points[mode] = run_point(Variant(v.scenario, v.overrides, in_process))
+            points[mode] = run_point(Variant(v.scenario, v.overrides, in_process), shadow=False)
             if log is not None:
                 p = points[mode]
                 log(f"  {scenario} {mode}: {p.status} {1e6 * p.wall_time / steps:.0f} us per step {p.message[:80]}")
@@ -122,7 +122,7 @@ def duration_scaling(quick: bool, log: Callable[[str], None] | None = print) -> 
     durations = (10.0, 40.0, 160.0) if quick else (10.0, 40.0, 160.0, 640.0, 2560.0)
     out = []
     for d in durations:
-        p = run_point(Variant("scenarios/hinge_barge.toml", (f"simulation.duration={d:g}",)))
+        p = run_point(Variant("scenarios/hinge_barge.toml", (f"simulation.duration={d:g}",)), shadow=False)
         out.append((d, p))
         if log is not None:
             log(f"  hinge barge {d:g} s: {p.status} wall {p.wall_time:.2f} s, RTF {p.real_time_factor:.1f}")

@@ -32,10 +32,11 @@ class PointCache:
     def __init__(self) -> None:
         self.points: dict[Variant, Point] = {}
 
-    def get(self, variant: Variant, error, log: Callable[[str], None] | None = None) -> Point:  # noqa: ANN001
+    def get(self, variant: Variant, error, log: Callable[[str], None] | None = None,  # noqa: ANN001
+            estimate=None) -> Point:  # noqa: ANN001
         point = self.points.get(variant)
         if point is None:
-            point = self.points[variant] = run_point(variant, error)
+            point = self.points[variant] = run_point(variant, error, estimate=estimate)
             if log is not None:
                 log(describe(point))
         return point
@@ -43,7 +44,8 @@ class PointCache:
 
 def describe(point: Point) -> str:
     """One line per point for the progress log."""
-    figures = (f"RTF {point.real_time_factor:8.1f}  error {point.error:9.2e}" if point.stable
+    figures = (f"RTF {point.real_time_factor:8.1f}  error {point.error:9.2e}  estimate {point.estimate:9.2e}"
+               if point.stable
                else f"{point.status} at t = {point.simulated:g} s: {point.message[:100]}")
     return f"  {figures}  {point.variant.command()}"
 
@@ -55,15 +57,16 @@ def case_curves(case: Case, quick: bool, cache: PointCache, log: Callable[[str],
     out = []
     for factor in case.factors:
         for option in factor.options:
-            points = [cache.get(base.with_(*option.overrides, f"simulation.step={h:g}"), case.error, log)
-                      for h in steps]
+            points = [cache.get(base.with_(*option.overrides, f"simulation.step={h:g}"), case.error, log,
+                                case.estimate) for h in steps]
             out.append(Curve(case.name, factor.name, option.label, steps, points))
     return out
 
 
 def default_point(case: Case, quick: bool, cache: PointCache) -> Point:
     """The case at its scenario's defaults and own step (the point the report's first screen quotes)."""
-    return cache.get(case.variant(quick).with_(f"simulation.step={case.default_step:g}"), case.error)
+    return cache.get(case.variant(quick).with_(f"simulation.step={case.default_step:g}"), case.error,
+                     estimate=case.estimate)
 
 
 def fastest_within(curves: list[Curve], tolerance: float) -> Point | None:
