@@ -29,7 +29,7 @@ from orchestrator.scene import load_scene
 from .conftest import ROOT, SCENARIOS
 from .test_plain_hosts import c_host, run_host, steady_errors  # noqa: F401  (c_host: a fixture)
 
-SSD = "{%s}" % NS["ssd"]
+SSD = f"{{{NS['ssd']}}}"
 
 
 def _export(name: str, out: Path, *options: str) -> subprocess.CompletedProcess:
@@ -124,4 +124,19 @@ def test_libcosim_runs_the_native_ssp_to_the_exact_steady_heave(cylinder, tmp_pa
     assert "[error]" not in log and "[fatal]" not in log and "[warning]" not in log, log[-3000:]
     amplitude, phase = steady_errors(scene, data["time"], {"float.x[3]": data[var[0]]})["float.x[3]"]
     print(f"libcosim, native hydro FMU: steady heave {amplitude * 100:+.3f} %, phase {phase:+.3f} deg")
+    assert abs(amplitude) < 0.005 and abs(phase) < 1.0, (amplitude, phase)
+
+
+def test_the_c_host_runs_the_native_ssp_as_libcosim_does(cylinder, c_host, tmp_path) -> None:  # noqa: F811
+    """The plain C host (tests/c_host/jacobi_host.c: fixed step, Jacobi, zero-order hold; the environment of
+    ``wec-cosim host-env`` for the Python multibody FMU) on the same archive: the same exchange as libcosim, so the
+    same heave to 1e-10 m, and the steady heave within 0.5 % / 1 deg of the exact answer."""
+    scene, archive = cylinder
+    var = ["mbd.float.x[3]"]
+    h = scene.scenario.simulation.step
+    c, _ = run_host("c", archive, 2000, h, var, tmp_path, c_host)
+    ref, _ = run_host("libcosim", archive, 2000, h, var, tmp_path)
+    assert max(abs(c[var[0]] - ref[var[0]])) < 1e-10
+    amplitude, phase = steady_errors(scene, c["time"], {"float.x[3]": c[var[0]]})["float.x[3]"]
+    print(f"C host, native hydro FMU: steady heave {amplitude * 100:+.3f} %, phase {phase:+.3f} deg")
     assert abs(amplitude) < 0.005 and abs(phase) < 1.0, (amplitude, phase)
