@@ -6,12 +6,14 @@ and whose multibody component is the PythonFMU one, run in a real host.
   the connector kinds of the SSD and the same unit at both ends; the parameter bindings name the multibody FMU's
   parameters; OSP's and OMSimulator's fixed-step annotations both give the scenario's step (also without
   ``--native``: OMSimulator's command line aborts on an SSD without its annotation);
-* runs: libcosim (libcosimpy, its own process) and the plain C host run the exported cylinder over 200 s at the
-  exported step (0.1 s); the steady heave is compared with the exact frequency-domain answer of the scene.
+* runs: libcosim (libcosimpy, its own process), OMSimulator's command line and the plain C host run the exported
+  cylinder over 200 s at the exported step (0.1 s); the steady heave is compared with the exact frequency-domain
+  answer of the scene.
 """
 
 from __future__ import annotations
 
+import csv
 import os
 import subprocess
 import sys
@@ -19,9 +21,11 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 from fmpy import read_model_description
 
+from orchestrator.fmi.host_environment import fmu_environment
 from orchestrator.fmi.ssp import NS, system_structure
 from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
@@ -30,6 +34,7 @@ from .conftest import ROOT, SCENARIOS
 from .test_plain_hosts import c_host, run_host, steady_errors  # noqa: F401  (c_host: a fixture)
 
 SSD = f"{{{NS['ssd']}}}"
+OMSIMULATOR = ROOT.parent / "shared" / "tools" / "omsimulator" / "bin" / "OMSimulator"
 
 
 def _export(name: str, out: Path, *options: str) -> subprocess.CompletedProcess:
@@ -112,13 +117,21 @@ def test_the_native_ssp_connects_existing_variables_of_both_fmus_with_their_unit
             assert comp == "mbd" and variables["mbd"][name].causality == "parameter", name
 
 
-def test_libcosim_runs_the_native_ssp_to_the_exact_steady_heave(cylinder, tmp_path) -> None:
+@pytest.fixture(scope="module")
+def libcosim_run(cylinder, tmp_path_factory) -> tuple[dict, subprocess.CompletedProcess]:
+    """libcosim (libcosimpy, in its own process) on the exported archive, 200 s at the exported step."""
+    scene, archive = cylinder
+    return run_host("libcosim", archive, 2000, scene.scenario.simulation.step, ["mbd.float.x[3]"],
+                    tmp_path_factory.mktemp("libcosim"))
+
+
+def test_libcosim_runs_the_native_ssp_to_the_exact_steady_heave(cylinder, libcosim_run) -> None:
     """Acceptance: libcosim (libcosimpy, in its own process) runs the exported SSP (native hydro FMU, Python
     multibody FMU) over 200 s at the exported step 0.1 s: the steady heave amplitude within 0.5 % and the phase
     within 1 deg of the exact frequency-domain answer, with no error or warning from libcosim's parser."""
-    scene, archive = cylinder
+    scene, _ = cylinder
     var = ["mbd.float.x[3]"]
-    data, proc = run_host("libcosim", archive, 2000, scene.scenario.simulation.step, var, tmp_path)
+    data, proc = libcosim_run
     log = proc.stdout + proc.stderr
     assert "FMI2XML" in log  # libcosim's parser log is really captured
     assert "[error]" not in log and "[fatal]" not in log and "[warning]" not in log, log[-3000:]
@@ -127,7 +140,7 @@ def test_libcosim_runs_the_native_ssp_to_the_exact_steady_heave(cylinder, tmp_pa
     assert abs(amplitude) < 0.005 and abs(phase) < 1.0, (amplitude, phase)
 
 
-def test_the_c_host_runs_the_native_ssp_as_libcosim_does(cylinder, c_host, tmp_path) -> None:  # noqa: F811
+def test_the_c_host_runs_the_native_ssp_as_libcosim_does(cylinder, c_host, libcosim_run, tmp_path) -> None:  # noqa: F811
     """The plain C host (tests/c_host/jacobi_host.c: fixed step, Jacobi, zero-order hold; the environment of
     ``wec-cosim host-env`` for the Python multibody FMU) on the same archive: the same exchange as libcosim, so the
     same heave to 1e-10 m, and the steady heave within 0.5 % / 1 deg of the exact answer."""
@@ -135,8 +148,37 @@ def test_the_c_host_runs_the_native_ssp_as_libcosim_does(cylinder, c_host, tmp_p
     var = ["mbd.float.x[3]"]
     h = scene.scenario.simulation.step
     c, _ = run_host("c", archive, 2000, h, var, tmp_path, c_host)
-    ref, _ = run_host("libcosim", archive, 2000, h, var, tmp_path)
+    ref, _ = libcosim_run
     assert max(abs(c[var[0]] - ref[var[0]])) < 1e-10
     amplitude, phase = steady_errors(scene, c["time"], {"float.x[3]": c[var[0]]})["float.x[3]"]
     print(f"C host, native hydro FMU: steady heave {amplitude * 100:+.3f} %, phase {phase:+.3f} deg")
+    assert abs(amplitude) < 0.005 and abs(phase) < 1.0, (amplitude, phase)
+
+
+@pytest.mark.skipif(not OMSIMULATOR.exists(), reason="OMSimulator is not installed in ../shared/tools/omsimulator")
+def test_omsimulator_command_line_runs_the_exported_native_ssp(cylinder, libcosim_run, tmp_path) -> None:
+    """Acceptance: OMSimulator's command line runs the archive exactly as ``export-ssp --native`` wrote it (its
+    fixed-step master from the SSD's annotation; only the environment of ``wec-cosim host-env`` for the Python
+    multibody FMU, nothing else inherited) over 200 s at 0.1 s: no error, the same heave as libcosim to 1e-10 m
+    (both exchange values once per step, zero-order hold), and the steady heave within 0.5 % / 1 deg of the exact
+    frequency-domain answer."""
+    scene, archive = cylinder
+    env = {"PATH": "/usr/bin:/bin", **fmu_environment({})}
+    run = subprocess.run([str(OMSIMULATOR), str(archive), "--stepSize=0.1", "--stopTime=200", "--resultFile=out.csv"],
+                         capture_output=True, text=True, cwd=tmp_path, env=env, timeout=900)
+    assert run.returncode == 0 and "0 errors" in run.stdout, (run.stdout + run.stderr)[-3000:]
+    with open(tmp_path / "out.csv", newline="") as f:
+        header = [h.strip() for h in next(csv.reader(f))]  # quoted: names such as dF_dx[3,3] hold commas
+    data = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
+    column = next(k for k, h in enumerate(header) if h.endswith(".mbd.float.x[3]"))
+    t, x = data[:, 0], data[:, column]
+    # OMSimulator writes two rows at each communication point (before and after the step's events): keep the last
+    last = len(t) - 1 - np.unique(t[::-1], return_index=True)[1]
+    t, x = t[last], x[last]
+    assert len(t) == 2001 and t[-1] == pytest.approx(200.0)
+    ref, _ = libcosim_run  # its rows are the points after each step: 0.1 ... 200 s
+    np.testing.assert_allclose(t[1:], ref["time"], rtol=1e-9)
+    assert np.max(np.abs(x[1:] - ref["mbd.float.x[3]"])) < 1e-10
+    amplitude, phase = steady_errors(scene, t[1:], {"float.x[3]": x[1:]})["float.x[3]"]
+    print(f"OMSimulator, native hydro FMU: steady heave {amplitude * 100:+.3f} %, phase {phase:+.3f} deg")
     assert abs(amplitude) < 0.005 and abs(phase) < 1.0, (amplitude, phase)
