@@ -37,9 +37,9 @@ SSD = f"{{{NS['ssd']}}}"
 OMSIMULATOR = ROOT.parent / "shared" / "tools" / "omsimulator" / "bin" / "OMSimulator"
 
 
-def _export(name: str, out: Path, *options: str) -> subprocess.CompletedProcess:
+def _export(name: str, out: Path, *options: str, env: dict | None = None) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "wec_cosim.cli", "export-ssp", str(SCENARIOS / f"{name}.toml"),
-                           str(out), *options], capture_output=True, text=True, cwd=ROOT, env=os.environ.copy(),
+                           str(out), *options], capture_output=True, text=True, cwd=ROOT, env=env or os.environ.copy(),
                           timeout=900)
 
 
@@ -195,3 +195,12 @@ def test_the_native_archive_moves_the_body_as_the_python_one_does(cylinder, libc
     python, _ = run_host("libcosim", archive, 2000, scene.scenario.simulation.step, [var], tmp_path)
     native, _ = libcosim_run
     assert np.max(np.abs(python[var] - native[var])) < 1e-12
+
+
+def test_a_missing_compiler_is_one_message_and_exit_status_2(tmp_path) -> None:
+    """``CC`` names no compiler: the archive is not written, one message names the compiler and the fix."""
+    out = tmp_path / "cylinder.ssp"
+    proc = _export("cylinder_regular", out, "--native", env=dict(os.environ, CC="/nonexistent/cc"))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr[-3000:]
+    assert "no C compiler ('/nonexistent/cc' is not on PATH)" in proc.stderr and "set CC" in proc.stderr
+    assert not out.exists()
