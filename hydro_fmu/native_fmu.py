@@ -38,6 +38,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from fmu_base import runtime_data
+from fmu_base.coupling import DAMPING, RATE, STIFFNESS
 
 from .runtime_input import KIND, runtime_arrays
 
@@ -66,7 +67,12 @@ FORCE_UNITS = ("N", "N", "N", "N.m", "N.m", "N.m")
 UNITS = {  # unit: (kg, m, s, rad) exponents
     "m": (0, 1, 0, 0), "rad": (0, 0, 0, 1), "m/s": (0, 1, -1, 0), "rad/s": (0, 0, -1, 1), "N": (1, 1, -2, 0),
     "N.m": (1, 2, -2, 0), "J": (1, 2, -2, 0), "s": (0, 0, 1, 0), "1": (0, 0, 0, 0),
+    # the linearised interface (fmu_base.coupling) and the added mass, as the Python hydro FMU declares them
+    "N/s": (1, 1, -3, 0), "N.m/s": (1, 2, -3, 0), "N/m": (1, 0, -2, 0), "N/rad": (1, 1, -2, -1),
+    "N.m/rad": (1, 2, -2, -1), "N.s/m": (1, 0, -1, 0), "N.s/rad": (1, 1, -1, -1), "N.s": (1, 1, -1, 0),
+    "N.m.s/rad": (1, 2, -1, -1), "kg": (1, 0, 0, 0), "kg.m": (1, 1, 0, 0), "kg.m2": (1, 2, 0, 0),
 }
+ADDED_MASS_UNITS = (("kg", "kg.m"), ("kg.m", "kg.m2"))  # [force is a moment][motion is a rotation]
 ROW_TEXT = {"F": "total hydrodynamic force", "F_exc": "excitation force", "F_rad": "radiation force (memory only)",
             "F_hs": "hydrostatic force", "F_visc": "viscous force"}
 
@@ -247,17 +253,20 @@ def _variables(model: HydroModel, arrays: dict, constants: list[FixedValue]) -> 
                              FORCE_UNITS[dofs[i]]))
     for i in range(n):
         out.append(_Variable(f"{bodies[i]}.F0_rate[{dofs[i] + 1}]", VR_F0_RATE + i, "output", "continuous",
-                             "linearised force: time rate of F0 over the next step"))
-    for prefix, base, text in (("dF_dx", VR_DF_DX, "displacement"), ("dF_dv", VR_DF_DV, "velocity")):
+                             "linearised force: time rate of F0 over the next step", RATE[dofs[i] >= 3]))
+    rot = [d >= 3 for d in dofs]
+    for prefix, base, text, table in (("dF_dx", VR_DF_DX, "displacement", STIFFNESS),
+                                      ("dF_dv", VR_DF_DV, "velocity", DAMPING)):
         for k in range(n):
             for m in range(n):
                 out.append(_Variable(f"{prefix}[{numbers[k]},{numbers[m]}]", base + k * n + m, "output",
-                                     "continuous", f"linearised force: derivative with respect to the {text}"))
+                                     "continuous", f"linearised force: derivative with respect to the {text}",
+                                     table[rot[k]][rot[m]]))
     for k in range(n):
         for m in range(n):
             out.append(_Variable(f"A_inf[{numbers[k]},{numbers[m]}]", VR_A_INF + k * n + m, "calculatedParameter",
                                  "fixed", "infinite-frequency added mass (for the multibody mass matrix)",
-                                 initial="calculated", dependencies=[]))
+                                 ADDED_MASS_UNITS[rot[k]][rot[m]], initial="calculated", dependencies=[]))
     return out
 
 
@@ -354,17 +363,22 @@ def _model_description3(model: HydroModel, arrays: dict, constants: list[FixedVa
     for row, deps in rows.items():
         if deps is not False:
             variables.append((row, VR3[row], "output", "continuous", ROW_TEXT[row], force_unit, (n,), None, deps))
+    rot = [d >= 3 for d in dofs]
+
+    def matrix_unit(table) -> str | None:  # one unit attribute per array: only when every entry has the same
+        return _common_unit([table[r][c] for r in rot for c in rot])
+
     variables += [
         ("F0", VR3["F0"], "output", "continuous", "linearised force: value at zero displacement and velocity",
          force_unit, (n,), None, None),
         ("F0_rate", VR3["F0_rate"], "output", "continuous", "linearised force: time rate of F0 over the next step",
-         None, (n,), None, None),
+         _common_unit([RATE[r] for r in rot]), (n,), None, None),
         ("dF_dx", VR3["dF_dx"], "output", "continuous", "linearised force: derivative with respect to x (row: "
-         "force, column: displacement)", None, (n, n), None, None),
-        ("dF_dv", VR3["dF_dv"], "output", "continuous", "linearised force: derivative with respect to v", None,
-         (n, n), None, None),
+         "force, column: displacement)", matrix_unit(STIFFNESS), (n, n), None, None),
+        ("dF_dv", VR3["dF_dv"], "output", "continuous", "linearised force: derivative with respect to v",
+         matrix_unit(DAMPING), (n, n), None, None),
         ("A_inf", VR3["A_inf"], "calculatedParameter", "fixed", "infinite-frequency added mass (for the multibody "
-         "mass matrix)", None, (n, n), None, [])]
+         "mass matrix)", matrix_unit(ADDED_MASS_UNITS), (n, n), None, [])]
     units = sorted({v[5] for v in variables if v[5]} | {"s"})
     lines = ['<?xml version="1.0" encoding="UTF-8"?>',
              f'<fmiModelDescription fmiVersion="3.0" modelName={quoteattr(name)} instantiationToken="{token}" '

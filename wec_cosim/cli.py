@@ -5,7 +5,7 @@
     wec-cosim hydro SCENARIO [--refresh]                  build or refresh the hydrodynamic database
     wec-cosim build-fmus SCENARIO [--out DIR]             build the scene's two FMUs
     wec-cosim controller NAME --run RUN_ID                run an example external controller
-    wec-cosim export-ssp SCENARIO OUT.ssp                 SSP archive (FMUs, connections, parameters)
+    wec-cosim export-ssp SCENARIO OUT.ssp [--native]      SSP archive (FMUs, connections, parameters)
     wec-cosim resume RESULTS.h5                           continue a run from its last checkpoint
     wec-cosim plot FILE.h5... [--out DIR] [--joints J[k]...]  PNG figures of results, RAO, steady or sweep files
     wec-cosim sweep SCENARIO --out FILE [--scheduler A]   one run per case of [sweep] on Dask; power matrices
@@ -180,10 +180,11 @@ def cmd_export_ssp(args: argparse.Namespace) -> int:
     scenario = _scenario(args.scenario)
     _out(args.out, kind="file")
     scene = load_scene(scenario, progress=True)
-    path = export_ssp(scene, args.out)
-    print(f"SSP archive {path}: components hydro, mbd; {len(scene.linearised_connections())} connections "
-          f"(linearised force interface); run it with fmpy.ssp.simulation.simulate_ssp, libcosimpy or a C host "
-          f"(docs/hosts/)")
+    path = export_ssp(scene, args.out, native=args.native)
+    hydro = "hydro (native, FMI 2.0, no Python needed; sea fixed at build time)" if args.native else "hydro"
+    print(f"SSP archive {path}: components {hydro}, mbd; {len(scene.linearised_connections())} connections "
+          f"(linearised force interface); run it with fmpy.ssp.simulation.simulate_ssp, libcosimpy, OMSimulator "
+          f"or a C host (docs/hosts/)")
     return 0
 
 
@@ -340,6 +341,10 @@ def parser() -> argparse.ArgumentParser:
     e = sub.add_parser("export-ssp", help="write the scene as an SSP archive for other FMI tools")
     e.add_argument("scenario")
     e.add_argument("out", help="output .ssp file")
+    e.add_argument("--native", action="store_true",
+                   help="the hydro component is the native hydro FMU (FMI 2.0, compiled C, no Python needed for it; "
+                        "the sea is fixed at build time); the multibody FMU stays the Python one "
+                        "(docs/hosts/native_fmus.md). The SSD carries OSP's and OMSimulator's fixed-step annotations")
     e.set_defaults(func=cmd_export_ssp)
     v = sub.add_parser("host-env", help="print (or run a command with) the environment our FMUs need in a C/C++ "
                                         "host: LD_PRELOAD of libpython, PYTHONHOME, PYTHONPATH (docs/hosts/c.md)")

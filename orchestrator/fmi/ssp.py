@@ -10,12 +10,18 @@
   must carry in its mass matrix (what our master copies from the hydro FMU's calculated parameters).
   ``ssd:DefaultExperiment`` holds the start and stop time and, as an OSP annotation
   (``osp:FixedStepAlgorithm baseStepSize``), the macro step: libcosim's SSP loader takes its
-  algorithm from there (without it ``from_ssp_file`` without a step size crashed here);
+  algorithm from there (without it ``from_ssp_file`` without a step size crashed here). The system
+  carries OMSimulator's fixed-step master annotation (``oms:FixedStepMaster stepSize`` under an
+  ``org.openmodelica`` annotation): OMSimulator's command line aborts on an SSD without it;
 * ``resources/parameters.ssv``: the same parameters with component-qualified names
   (``mbd.A_inf[3,3]``) for hosts that take a parameter set, such as fmpy's ``simulate_ssp``
   (``parameter_set=read_ssv(...)``);
 * ``OspSystemStructure.xml``: the same system for libcosim's own configuration format
   (``CosimExecution.from_osp_config_file``), algorithm ``fixedStep``.
+
+With ``native=True`` (``wec-cosim export-ssp --native``) the ``hydro`` component is the native hydro FMU
+(:mod:`hydro_fmu.native_fmu`, FMI 2.0, compiled C, no Python in the host; the sea is fixed at build time) with the
+same variable names; the multibody component stays the PythonFMU one.
 
 The exported system is the added-mass mode (a) coupling; modes (b) and (c) need a master that
 changes the force input and are not exportable. Generic hosts run a plain fixed-step Jacobi with
@@ -35,13 +41,14 @@ from xml.etree.ElementTree import Element, SubElement, indent, tostring
 from orchestrator.errors import WecCosimError
 from orchestrator.scene import HYDRO, MBD, Scene
 
-from .fmu_builder import build_scene_fmus
+from .fmu_builder import build_fmu, build_scene_fmus, cache_dir
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
     "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
     "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
     "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
+    "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd",
 }
 
 
@@ -98,6 +105,11 @@ def system_structure(scene: Scene) -> str:
         SubElement(links, _q("ssd:Connection"), {"startElement": link.source, "startConnector": link.source_variable,
                                                  "endElement": link.target, "endConnector": link.target_variable})
     sim = s.simulation
+    # OMSimulator's fixed-step master (its command line aborts with "[NewSystem] internal error" without it)
+    oms = SubElement(SubElement(SubElement(system, _q("ssd:Annotations")), _q("ssc:Annotation"),
+                                {"type": "org.openmodelica"}), _q("oms:Annotations"))
+    SubElement(SubElement(oms, _q("oms:SimulationInformation")), _q("oms:FixedStepMaster"),
+               {"description": "oms-ma", "stepSize": repr(sim.step)})
     experiment = SubElement(root, _q("ssd:DefaultExperiment"), {"startTime": "0.0", "stopTime": repr(sim.duration)})
     note = SubElement(SubElement(experiment, _q("ssd:Annotations")), _q("ssc:Annotation"),
                       {"type": "com.opensimulationplatform"})
@@ -151,8 +163,25 @@ def _xml(root: Element, namespaced: bool = True) -> str:
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + tostring(root, encoding="unicode") + "\n"
 
 
-def export_ssp(scene: Scene, out: str | Path) -> Path:
-    """Write the SSP archive of ``scene`` to ``out`` (a ``.ssp`` zip file); returns its path."""
+def _native_fmus(scene: Scene, folder: Path) -> dict[str, Path]:
+    """The native hydro FMU (FMI 2.0, built into ``folder``) and the PythonFMU multibody FMU of ``scene``."""
+    from hydro_fmu.native_fmu import NativeBuildError, build_native_hydro_fmu, sea_constants
+
+    s = scene.scenario
+    hydro = folder / f"{HYDRO}.fmu"
+    try:
+        build_native_hydro_fmu(scene.hydro_model(), hydro, constants=sea_constants(scene.sea_spec()),
+                               name=f"{s.name}_hydro", fmi_version=2,
+                               experiment=(0.0, s.simulation.duration, s.simulation.step))
+    except NativeBuildError as exc:
+        raise WecCosimError(f"export-ssp --native: {exc}") from None
+    return {HYDRO: hydro, MBD: build_fmu(MBD, scene.mbd_spec(), {}, cache_dir())}
+
+
+def export_ssp(scene: Scene, out: str | Path, native: bool = False) -> Path:
+    """Write the SSP archive of ``scene`` to ``out`` (a ``.ssp`` zip file); returns its path. ``native``: the hydro
+    component is the native hydro FMU (FMI 2.0, no Python in the host, the sea fixed at build time) instead of the
+    PythonFMU one."""
     s = scene.scenario
     if s.simulation.added_mass != "mass_matrix" or s.simulation.master == "monolithic":
         raise WecCosimError(
@@ -163,8 +192,8 @@ def export_ssp(scene: Scene, out: str | Path) -> Path:
     if out.suffix != ".ssp":
         raise WecCosimError(f"export-ssp: the output file must end in .ssp (got {out})")
     out.parent.mkdir(parents=True, exist_ok=True)
-    fmus = build_scene_fmus(scene)
     with tempfile.TemporaryDirectory(prefix="wec_ssp_") as tmp:
+        fmus = _native_fmus(scene, Path(tmp)) if native else build_scene_fmus(scene)
         partial = Path(tmp) / out.name
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("SystemStructure.ssd", system_structure(scene))
