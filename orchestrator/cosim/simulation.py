@@ -191,13 +191,11 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
 def mobility(scene: Scene) -> dict | None:
     """DOF count and redundant constraint rows of a constrained scene at its start pose (the multibody
     FMU's own analysis, ``mbd_fmu.assembly.analyse``, run in-process), or None for the linear model."""
-    if scene.scenario.formulation == "linear":
+    r = scene.mobility()
+    if r is None:
         return None
-    from mbd_fmu.spec import mobility_report
-
-    r = mobility_report(scene.mbd_spec(dynamic_lines=False))
     return {"coordinates": r.coordinates, "constraints": r.constraints, "rank": r.rank, "dof": r.dof,
-            "redundant": list(r.redundant), "summary": r.summary()}
+            "redundant": list(r.redundant), "summary": r.summary() + (f"; {r.note}" if r.note else "")}
 
 
 @dataclass

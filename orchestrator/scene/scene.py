@@ -28,6 +28,7 @@ from mbd_fmu.linear_system import LinearMultibodySystem
 from orchestrator.errors import ScenarioError
 from orchestrator.scenario import DOFS, Scenario
 from orchestrator.scenario.body_sections import BodySection
+from orchestrator.scenario.checks import inertia_tensor
 
 from .database import TAIL_CORRECTION, bem_inputs, check_wave_range, load_database, sorted_dofs
 
@@ -56,6 +57,7 @@ class Scene:
         self.scenario = scenario
         self.hdb = hdb
         self.hdb_file = hdb_file
+        self._mobility = None  # mobility(), computed once
         self.hydro_bodies = [b.name for b in scenario.hydro_bodies]
         self.hydro_coordinates = [(b.name, DOFS.index(d)) for b in scenario.hydro_bodies
                                   for d in sorted_dofs(b)]
@@ -79,9 +81,7 @@ class Scene:
     def inertia_matrix(b: BodySection) -> np.ndarray:
         if b.inertia is None:
             return np.eye(3)  # unused: no rotational DOF is active
-        v = list(b.inertia) + [0.0] * (6 - len(b.inertia))
-        ixx, iyy, izz, ixy, ixz, iyz = v
-        return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        return np.array(inertia_tensor(b.inertia))
 
     def rigid_bodies(self) -> list[RigidBody]:
         return [
@@ -382,6 +382,23 @@ class Scene:
                     "position": list(p.position), "dof": DOFS.index(p.dof)}
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
+    def mobility(self):  # noqa: ANN201 - mbd_fmu.assembly.MobilityReport | None
+        """DOF count, redundant constraint rows and the assembly's correction of the start pose of a constrained
+        scene (``mbd_fmu.spec.mobility_report``, computed once), or None for the linear model. A model that
+        cannot be built or assembled (``mbd_fmu.spec_checks.ModelError``) is a :class:`ScenarioError` naming the
+        scenario file."""
+        if self.scenario.formulation == "linear":
+            return None
+        if self._mobility is None:
+            from mbd_fmu.spec import mobility_report
+            from mbd_fmu.spec_checks import ModelError
+
+            try:
+                self._mobility = mobility_report(self.mbd_spec(dynamic_lines=False))
+            except ModelError as exc:
+                raise ScenarioError(f"{self.scenario.file}: {exc}") from None
+        return self._mobility
+
     def multibody_simulator(self, *, added_mass: bool = True):
         """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
         are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
@@ -452,7 +469,11 @@ def _correction_json(correction: tuple[np.ndarray, np.ndarray] | None) -> dict |
 
 
 def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:
-    """The scenario resolved against its database (computed if needed, see :func:`load_database`)."""
+    """The scenario resolved against its database (computed if needed, see :func:`load_database`); a constrained
+    scene's multibody model built and assembled once (:meth:`Scene.mobility`), so that a model the equations
+    cannot take is refused here, naming the scenario file."""
     hdb, path = load_database(scenario, refresh=refresh, log=log, progress=progress)
     check_wave_range(scenario, hdb, path)
-    return Scene(scenario, hdb, path)
+    scene = Scene(scenario, hdb, path)
+    scene.mobility()
+    return scene
