@@ -28,6 +28,7 @@ from orchestrator.scene import HYDRO, Scene, load_scene
 
 from .control_loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
+from .divergence import divergence_causes
 from .interrupts import InterruptAtStep
 from .master_factory import make_master
 from .masters import Master, MasterSettings
@@ -355,7 +356,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
-        raise MasterError(f"{exc}{_divergence_advice(plan)} (results up to t = {master.time:g} s are in "
+        raise MasterError(f"{exc}{divergence_causes(plan)} (results up to t = {master.time:g} s are in "
                           f"{writer.path})") from None
     except KeyboardInterrupt:
         writer.close(status="interrupted", wall_time=time.perf_counter() - start,
@@ -458,27 +459,6 @@ def _run_statistics(plan: RunPlan) -> dict:
     if its:
         out.update(mean_iterations=float(np.mean(its)), max_iterations=int(np.max(its)))
     return out
-
-
-def _divergence_advice(plan: RunPlan) -> str:
-    """Why a run with the added mass on the force side diverges, and what to change."""
-    scenario = plan.scene.scenario
-    if scenario.simulation.added_mass != "explicit_force":
-        return ""
-    scene = plan.scene
-    idx = scene.hydro_index()
-    a_inf = np.diag(scene.hdb.added_mass_inf[np.ix_(idx, idx)])
-    system = scene.multibody_system(added_mass=False)
-    rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
-    ratios = a_inf / np.diag(system.structural_mass)[rows]
-    j = int(np.argmax(ratios))
-    b, d = scene.hydro_coordinates[j]
-    return (f". The run diverged because simulation.added_mass = 'explicit_force' applies the infinite-frequency "
-            f"added mass as a force computed from the previous step's acceleration; that explicit coupling is "
-            f"unstable at any step size whenever A_inf exceeds the structural mass, and here A_inf is "
-            f"{ratios[j]:.3g} times the mass ({b} {DOFS[d]}). Use simulation.added_mass = 'mass_matrix' (the "
-            f"default), or 'interface' with master = 'iqn_ils' or 'aitken' for a multibody FMU that cannot take "
-            f"A_inf")
 
 
 def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:

@@ -20,7 +20,8 @@ from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
 from hydro_fmu.linearisation import CouplingPattern, coupling_pattern
 from hydro_fmu.meshes import SurfaceMesh, write_meshes
 from hydro_fmu.model import ForceSwitches, HydroOptions
-from hydro_fmu.sea import Sea, SeaSpec, build_sea
+from hydro_fmu.sea import Sea, SeaSpec, build_sea, discretisation, sea_spectrum
+from hydro_fmu.spectra import held_variance
 from hydro_fmu.waves import Ramp, WaveComponents
 from mbd_fmu.bodies import RigidBody
 from mbd_fmu.force_elements import LinearPTO
@@ -61,6 +62,8 @@ class Scene:
         self.hydro_bodies = [b.name for b in scenario.hydro_bodies]
         self.hydro_coordinates = [(b.name, DOFS.index(d)) for b in scenario.hydro_bodies
                                   for d in sorted_dofs(b)]
+        if scenario.waves.kind == "irregular" and scenario.waves.discretisation == "equal_frequency":
+            check_held_energy(scenario, self.sea_spec())
         if scenario.waves.kind != "still":
             try:
                 headings = np.unique(self.waves().headings) if scenario.waves.spreading_s > 0 else [
@@ -459,6 +462,24 @@ class Scene:
         """Calculated parameters copied at initialisation: A_inf from the hydro FMU to the MBD FMU."""
         labels = [k + 1 for k in self.hydro_index()]
         return [Connection(HYDRO, f"A_inf[{k},{l}]", MBD, f"A_inf[{k},{l}]") for k in labels for l in labels]
+
+
+HS_TOLERANCE = 0.25  # largest relative difference of the discretised sea's Hs from the spectrum's
+
+
+def check_held_energy(scenario: Scenario, spec: SeaSpec) -> None:
+    """Refuse an equal-frequency sea whose components hold an Hs more than :data:`HS_TOLERANCE` off the spectrum's
+    (a repeat period too short for the spectrum: 2 pi / repeat_period wider than its peak leaves few components
+    or none, and an Hs 2 m sea becomes still water)."""
+    ratio = math.sqrt(held_variance(sea_spectrum(spec), discretisation(spec)))
+    if abs(ratio - 1) > HS_TOLERANCE:
+        w = scenario.waves
+        key = "waves.repeat_period" if w.repeat_period > 0 else "waves.repeat_period (default: simulation.duration)"
+        raise ScenarioError(
+            f"{scenario.file}: {key} = {spec.repeat_period:g} s spaces the wave components by "
+            f"{2 * math.pi / spec.repeat_period:.4g} rad/s: they hold an Hs {100 * ratio:.3g} % of the spectrum's "
+            f"(more than {100 * HS_TOLERANCE:g} % off), the sea would not be the one asked for; give a repeat period "
+            f"of many peak periods (e.g. 100 Tp or more) or discretisation = 'equal_energy'")
 
 
 def _correction_json(correction: tuple[np.ndarray, np.ndarray] | None) -> dict | None:
