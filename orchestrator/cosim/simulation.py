@@ -26,6 +26,7 @@ from orchestrator.scenario import DOFS, Scenario, parse_scenario
 from orchestrator.scenario.input_checks import check_output
 from orchestrator.scene import HYDRO, Scene, load_scene
 
+from .checkpoint_identity import check_checkpoint, run_identity
 from .control_loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
 from .divergence import divergence_causes
@@ -282,6 +283,11 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
         raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
                             "run the simulation again")
     _check_same_build(results, stored.get("fmus", {}), plan)
+    try:
+        check_checkpoint(results, saved, plan, np.asarray(old["time"]))
+    except WecCosimError:
+        plan.master.terminate()
+        raise
     # Restore first: a checkpoint that cannot be used leaves the results file as it was.
     try:
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
@@ -328,6 +334,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     master, recorder = plan.master, plan.recorder
     bar = ProgressBar(0.0, sim.duration, enabled=progress)
     ckpt = checkpoint_path(writer.path)
+    identity = run_identity(plan) if sim.checkpoint_every > 0 else {}
     end_tick = int(round(sim.duration / sim.step))
 
     control = plan.control
@@ -346,7 +353,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         if t >= state.next_checkpoint - 1e-9 * sim.step:
             writer.flush()
             write_checkpoint(ckpt, master.checkpoint(), plan.controller.state(), time=t, rows=writer.written,
-                             steps=state.steps)
+                             steps=state.steps, identity=identity)
             state.next_checkpoint += sim.checkpoint_every
         bar.update(t)
 

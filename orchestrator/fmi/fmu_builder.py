@@ -153,15 +153,28 @@ def _copy_patched(fmu: Path, target: Path) -> None:
             dst.writestr(info, data)
 
 
+def hash_sources(h: hashlib._Hash, packages: tuple[str, ...]) -> None:
+    """Feed the Python sources of ``packages`` (paths and contents, in a fixed order) to the hash ``h``."""
+    for package in packages:
+        for f in sorted((ROOT / package).rglob("*.py")):
+            h.update(f.relative_to(ROOT).as_posix().encode())
+            h.update(f.read_bytes())
+
+
+def sources_key(packages: tuple[str, ...] = ("hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "fmu_base")) -> str:
+    """The hash of the physics sources (what an in-process run's states depend on), 16 hex digits."""
+    h = hashlib.sha256()
+    h.update(BUILD_REVISION.encode())
+    hash_sources(h, packages)
+    return h.hexdigest()[:16]
+
+
 def _key(recipe: FmuRecipe, spec: dict, data_files: dict[str, Path]) -> str:
     h = hashlib.sha256()
     h.update(pythonfmu.__version__.encode())
     h.update(BUILD_REVISION.encode())
     h.update(json.dumps(spec, sort_keys=True).encode())
-    for package in (recipe.package, "fmu_base"):
-        for f in sorted((ROOT / package).rglob("*.py")):
-            h.update(f.relative_to(ROOT).as_posix().encode())
-            h.update(f.read_bytes())
+    hash_sources(h, (recipe.package, "fmu_base"))
     for name, f in sorted(data_files.items()):
         h.update(name.encode())
         h.update(hashlib.sha256(Path(f).read_bytes()).digest())
