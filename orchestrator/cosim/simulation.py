@@ -22,6 +22,7 @@ from orchestrator.reference import frequency_domain
 from orchestrator.results import ResultsWriter, energy_account, read_results
 from orchestrator.results.analysis import averaging_window, harmonic_fit, mean_pto_powers, window_mean
 from orchestrator.results.checkpoints import checkpoint_path, read_checkpoint, write_checkpoint
+from orchestrator.results.file_guard import ResultsFileLost, ResultsLock
 from orchestrator.scenario import DOFS, Scenario, parse_scenario
 from orchestrator.scenario.input_checks import check_output
 from orchestrator.scene import HYDRO, Scene, load_scene
@@ -225,10 +226,16 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
+    lock = ResultsLock(path)  # one writer per results file: a second run on it refuses here
     try:
-        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+        plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
     except BaseException:
+        lock.release()
+        raise
+    try:
+        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds, lock=lock)
+    except BaseException:
+        lock.release()
         plan.master.terminate()
         raise
     state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
@@ -258,6 +265,15 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     results = Path(results)
     if not results.is_file():
         raise WecCosimError(f"results file {results} does not exist")
+    lock = ResultsLock(results, "resume")  # not while a run (or another resume) writes the file
+    try:
+        return _resume(results, lock, log, progress)
+    except BaseException:
+        lock.release()
+        raise
+
+
+def _resume(results: Path, lock: ResultsLock, log, progress: bool) -> RunResult:  # noqa: ANN001
     try:
         with h5py.File(results, "r", swmr=True) as f:
             text = f.attrs["scenario"]
@@ -301,11 +317,13 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
                                 f"{results} is unchanged") from None
         raise
     writer = ResultsWriter(results.with_name(results.name + ".resume.part"), plan.recorder.series, {
-        k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds)
+        k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds,
+        lock=lock)
     writer.append_block({name: old[name][:rows] for name in plan.recorder.series})
     writer.flush()
     os.replace(writer.path, results)
     writer.path = results
+    writer.watch.moved_to(results)
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
@@ -361,6 +379,8 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     try:
         with interrupt:
             master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
+    except ResultsFileLost:  # the writer copied the rows and said where: nothing to close
+        raise
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
         raise MasterError(f"{exc}{divergence_causes(plan)} (results up to t = {master.time:g} s are in "
@@ -371,6 +391,9 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         raise
     except OSError as exc:  # the results or checkpoint file could not be written (disk full, file-size limit)
         _write_failure(plan, writer, exc, start)
+    except BaseException:
+        writer.release()
+        raise
     finally:
         master.terminate()
         bar.close()
@@ -424,9 +447,11 @@ def _write_failure(plan: RunPlan, writer: ResultsWriter, exc: OSError, start: fl
         attrs["control_statistics"] = plan.control.close("failed")
     recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
                            wall_time=time.perf_counter() - start, attrs=attrs)
+    kept = (f"the {writer.written} rows written before are kept"
+            + ("" if recorded else " (the status attribute could not be recorded)") if writer.path.is_file()
+            else f"the results file no longer exists: its {writer.written} rows are lost")
     raise WecCosimError(
-        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; the {writer.written} "
-        f"rows written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
+        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; {kept}: free "
         "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
         "again") from None
 

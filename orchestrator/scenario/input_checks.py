@@ -280,3 +280,23 @@ def check_output(path: Path, key: str, *, kind: str = "hdf5") -> Path:
     if not os.access(probe, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise WecCosimError(f"{key}: {path if path.exists() else probe} is not writable; choose another path")
     return path
+
+
+def require_room(path: Path, nbytes: int) -> None:
+    """Refuse (an ``OSError``: ENOSPC or EFBIG, naming ``path``) to write a file of about ``nbytes`` at ``path`` when
+    its disk has less free space or the process's file-size limit (``ulimit -f``) is smaller: an HDF5 file whose
+    write fails half-way cannot be closed, and HDF5's exit handler may then crash the process."""
+    import errno
+    import resource
+    import shutil
+
+    path = Path(path)
+    size = path.stat().st_size if path.exists() else 0
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if limit != resource.RLIM_INFINITY and size + nbytes > limit:
+        raise OSError(errno.EFBIG, f"file size limit of {limit} bytes reached", str(path))
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if shutil.disk_usage(folder).free < nbytes:
+        raise OSError(errno.ENOSPC, "no space left on the device", str(path))
