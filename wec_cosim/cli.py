@@ -17,6 +17,7 @@ status 2; nothing already computed is lost.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import shutil
@@ -361,6 +362,38 @@ def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
     hooks = sys.unraisablehook, sys.excepthook
     sys.unraisablehook, sys.excepthook = _quiet_hdf5_dealloc, _quiet_hdf5_traceback
+    with _numerical_warnings() as failed:
+        try:
+            code = _run(args)
+            if code != 0:
+                failed.append(True)
+        except BaseException:
+            failed.append(True)
+            raise
+        finally:
+            sys.unraisablehook, sys.excepthook = hooks
+        return code
+
+
+@contextlib.contextmanager
+def _numerical_warnings() -> typing.Iterator[list]:
+    """numpy's floating-point warnings ("overflow encountered in ...") of a command that then fails are the
+    failure's symptoms, not news: they are dropped so that the error is the one paragraph the user reads; the
+    warnings of a command that succeeds are shown as they were. Other warnings are always shown."""
+    import warnings
+
+    failed: list = []
+    with warnings.catch_warnings(record=True) as caught:  # the filters in force stay as they are
+        yield failed
+    for w in caught:
+        numerical = issubclass(w.category, RuntimeWarning) and (
+            "encountered in" in str(w.message) or "/numpy/" in w.filename.replace("\\", "/"))
+        if failed and numerical:
+            continue
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+
+
+def _run(args: argparse.Namespace) -> int:
     try:
         return args.func(args)
     except (WecCosimError, HydroDatabaseError) as exc:
@@ -382,8 +415,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wec-cosim {args.command}: interrupted (a results file keeps its rows, status 'interrupted')",
               file=sys.stderr)
         return 130
-    finally:
-        sys.unraisablehook, sys.excepthook = hooks
 
 
 def machine_limit(exc: OSError | RuntimeError) -> str:
