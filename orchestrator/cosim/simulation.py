@@ -434,6 +434,10 @@ def control_notes(stats: dict | None, fallback: str) -> list[str]:
            + (f", {fell} on the fallback {fallback!r}" if fell else "")
            + (" (faults: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in faults.items()) + ")" if faults
               else "")]
+    dropped = {k: v for k, v in stats.get("dropped_frames", {}).items() if v}
+    if dropped:
+        out.append(f"controller: {sum(dropped.values())} frames dropped without acting on them ("
+                   + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in dropped.items()) + ")")
     if stats.get("refused_controllers"):
         out.append(f"controller: {stats['refused_controllers']} other controller(s) refused on this run id "
                    f"({stats.get('refused_commands', 0)} of their commands ignored)")
