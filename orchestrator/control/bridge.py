@@ -46,7 +46,9 @@ from .session import open_master
 FAULTS = ("absent", "late", "disconnected", "wrong_length", "wrong_version", "wrong_kind", "stale_step",
           "non_finite", "out_of_limits")
 SOURCES = {"controller": 0, "hold": 1, "passive": 2}
-DROPPED = ("duplicate", "stale", "future_step", *FAULTS[3:])  # frames dropped without a fallback
+# frames dropped without a fallback: those that answer nothing new, and faulty ones next to a held valid command
+DROPPED = ("duplicate", "stale", "future_step", "wrong_length", "wrong_version", "wrong_kind", "non_finite",
+           "out_of_limits")
 
 
 @dataclass(frozen=True)
@@ -280,7 +282,8 @@ class ControlBridge:
         new_latency = math.nan
         for arrival, event in self._drain():
             if isinstance(event, FrameError):
-                faults.append(event.fault)
+                if event.fault != "disconnected":  # the liveliness token decides that (below)
+                    faults.append(event.fault)
                 continue
             if event.step > step:  # answers measurements not published yet
                 self.stats.dropped_frames["future_step"] += 1
