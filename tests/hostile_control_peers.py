@@ -4,7 +4,8 @@
 
 BEHAVIOUR: ``duplicates:N`` (every answer followed by N copies), ``future:N`` (before each answer, N frames for the
 steps after it, with three times the damping), ``garbage:N`` (before each answer, N frames one value short),
-``law:NAME=VALUE`` (the law sets command NAME, which the run may not have; VALUE parsed as a float when it can be).
+``law:NAME=VALUE`` (the law sets command NAME, which the run may not have; VALUE parsed as a float when it can be),
+``vanish:K`` (the process ends without a goodbye at step K).
 A passive damper otherwise. Prints ``ended after N control steps`` or ``error: MESSAGE``.
 """
 
@@ -25,6 +26,10 @@ class Hostile(Controller):
 
     def _on_measurements(self, sample) -> None:  # noqa: ANN001
         frame = protocol.decode(sample.payload.to_bytes(), protocol.MEASUREMENTS, len(self.names))
+        if self.behaviour == "vanish" and frame.step >= self.count:
+            import os
+
+            os._exit(0)
         values = [self.values[n] for n in self.command_names]
         if self.behaviour == "future":
             wrong = [3 * v for v in values]

@@ -98,6 +98,13 @@ def test_realtime_keeps_the_valid_command(tmp_path, behaviour) -> None:
     assert stats["dropped_frames"][key] > 0, stats
 
 
+def test_realtime_controller_that_vanishes_leaves_the_fallback_named(tmp_path) -> None:
+    data, _ = run_with(tmp_path, "vanish:10", mode="realtime", duration=5.0, realtime_factor=2.0, fallback="passive")
+    stats = data["attrs"]["control_statistics"]
+    assert data["attrs"]["status"] == "completed"
+    assert stats["faults"]["disconnected"] > 0 and data["control/source"][-1] == SOURCES["passive"], stats
+
+
 BAD_LAWS = ["nopto.damping=1e5", "pto.dampin=1e5", "pto=1e5", "PTO.damping=1e5", "pto.damping=soft",
             "pto.damping="]
 
