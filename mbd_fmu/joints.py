@@ -47,6 +47,12 @@ JOINT_COORDINATE_UNITS = {
     "spherical": [("rad", "rad/s")] * 3, "planar": [("m", "m/s"), ("m", "m/s"), ("rad", "rad/s")],
     "distance": [("m", "m/s")],
 }
+# The names of each kind's coordinates (FMU ``<joint>.coordinate[k]``, in order; units above).
+JOINT_COORDINATE_NAMES = {
+    "fixed": [], "revolute": ["angle"], "prismatic": ["displacement"], "cylindrical": ["displacement", "angle"],
+    "universal": ["rotation_x", "rotation_y", "rotation_z"], "spherical": ["rotation_x", "rotation_y", "rotation_z"],
+    "planar": ["x", "y", "angle"], "distance": ["length"],
+}
 
 
 def joint_frame(axis, axis2=None) -> np.ndarray:
@@ -155,17 +161,17 @@ def compile_joint(joint: Joint, m1: Marker, m2: Marker, length: float = 0.0) -> 
     slide = lambda n: Slide(b1, b2, n, m1.offset, m2.offset)  # noqa: E731
     angle = Angle(b1, b2, a1, x2)
     rotation = [RotationComponent(b1, b2, a1, a2, k) for k in range(3)]
-    coords = {
-        "fixed": ([], []),
-        "revolute": ([angle], ["angle"]),
-        "prismatic": ([slide(z1)], ["displacement"]),
-        "cylindrical": ([slide(z1), angle], ["displacement", "angle"]),
-        "universal": (rotation, ["rotation_x", "rotation_y", "rotation_z"]),
-        "spherical": (rotation, ["rotation_x", "rotation_y", "rotation_z"]),
-        "planar": ([slide(x1), slide(y1), angle], ["x", "y", "angle"]),
-        "distance": ([Distance(b1, b2, m1.offset, m2.offset)], ["length"]),
+    coordinates = {
+        "fixed": [],
+        "revolute": [angle],
+        "prismatic": [slide(z1)],
+        "cylindrical": [slide(z1), angle],
+        "universal": rotation,
+        "spherical": rotation,
+        "planar": [slide(x1), slide(y1), angle],
+        "distance": [Distance(b1, b2, m1.offset, m2.offset)],
     }[joint.kind]
-    cj.coordinates, cj.coordinate_names = coords
+    cj.coordinates, cj.coordinate_names = coordinates, list(JOINT_COORDINATE_NAMES[joint.kind])
     return cj
 
 

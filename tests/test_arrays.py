@@ -229,7 +229,8 @@ def test_4n3la_cosimulation_through_fmpy_matches_the_frequency_domain(tmp_path) 
     print("4n3la 2.6 rad/s (fmpy):", worst)
     from orchestrator.results.plotting import plot_file
 
-    assert [p.name for p in plot_file(tmp_path / "run.h5")] == ["run_timeseries.png", "run_energy.png"]
+    assert [p.name for p in plot_file(tmp_path / "run.h5")] == ["run_timeseries.png", "run_loads.png",
+                                                                "run_energy.png"]
 
 
 @pytest.mark.slow

@@ -78,7 +78,7 @@ def test_plot_mean_power_uses_the_summarys_window(run_output, tmp_path) -> None:
     mask, _ = averaging_window(scenario, t)
     assert t[mask][0] == pytest.approx(t[-1] - 10 * 5.6, abs=0.1) and t[mask][-1] == t[-1]
     assert abs(np.mean(power) / means["pto"] - 1) > 0.05  # what the figure showed before: the ramp included
-    assert [p.name for p in plot_file(out, tmp_path)] == ["cyl_timeseries.png"]
+    assert [p.name for p in plot_file(out, tmp_path)] == ["cyl_timeseries.png", "cyl_loads.png"]
 
 
 def test_averaging_window_after_the_ramp_when_there_is_no_wave_period() -> None:

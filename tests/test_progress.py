@@ -18,7 +18,7 @@ def test_short_runs_print_nothing() -> None:
 
 def test_long_runs_show_fraction_and_are_erased() -> None:
     stream = io.StringIO()
-    bar = ProgressBar(0.0, 200.0, delay=0.0, interval=0.0, width=10, stream=stream)
+    bar = ProgressBar(0.0, 200.0, delay=0.0, interval=0.0, width=10, stream=stream, terminal=True)
     bar.update(60.0)
     shown = stream.getvalue()
     assert "[###.......]" in shown and " 30.0 %" in shown and "t =     60.00 s" in shown and "left" in shown
@@ -54,7 +54,7 @@ def test_bem_solve_shows_each_frequency_and_equals_capytaines_own_fill_dataset(t
 
     stream, log = io.StringIO(), []
     settings = BemSettings(omega=(0.5, 1.0, 2.0), headings_deg=(0.0,))
-    shown = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0)
+    shown = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0, terminal=True)
     hdb, _, computed = cached_database([tiny_body()], settings, tmp_path, progress=shown)
     shown.close()
     assert computed
@@ -77,7 +77,7 @@ def test_bem_solve_shows_each_frequency_and_equals_capytaines_own_fill_dataset(t
     np.testing.assert_allclose(hdb.excitation[0], np.conj(own["excitation_force"].transpose(
         "wave_direction", "omega", "influenced_dof").values[0]), rtol=1e-14, atol=0)
 
-    again = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0)
+    again = BemProgress(1, log=log.append, stream=stream, delay=0.0, interval=0.0, terminal=True)
     _, _, computed = cached_database([tiny_body()], settings, tmp_path, progress=again)
     assert not computed and again.bar is None and len(log) == 1
 
@@ -113,3 +113,50 @@ panel_size = 0.5
     assert out[0].startswith("computing the hydrodynamic database with Capytaine: 3 frequencies x 1 heading(s)")
     assert out[1].startswith(f"computed hydrodynamic database {tmp_path / 'cache'}") and out[1].endswith(" s")
     assert out[2].endswith("3 frequencies 0.5..1.5 rad/s, 1 headings (" + out[2].split("(", 1)[1])
+
+
+# ----------------------------------------------------------------------------- terminal or log file
+def test_a_log_file_gets_a_plain_line_every_five_percent() -> None:
+    """Not a terminal (a file, a pipe, a notebook): no carriage-return frames, one line per 5 % of the run, each
+    with the percentage, the position and the time left; nothing to erase at the end."""
+    stream = io.StringIO()
+    bar = ProgressBar(0.0, 200.0, delay=0.0, interval=0.0, stream=stream)
+    assert not bar.terminal
+    for k in range(1, 2001):
+        bar.update(k / 10)
+    bar.close()
+    lines = stream.getvalue().splitlines()
+    assert "\r" not in stream.getvalue()
+    assert len(lines) == 20
+    assert [float(line.split("%")[0]) for line in lines] == [5.0 * k for k in range(1, 21)]
+    assert "t =     10.00 s" in lines[0] and "left" in lines[0]
+
+
+def test_a_jump_past_several_steps_prints_one_line() -> None:
+    stream = io.StringIO()
+    bar = ProgressBar(0.0, 100.0, delay=0.0, interval=0.0, stream=stream)
+    bar.update(1.0)
+    bar.update(37.0)
+    bar.update(38.0)
+    bar.update(40.0)
+    assert [line.split("%")[0].strip() for line in stream.getvalue().splitlines()] == ["37.0", "40.0"]
+
+
+def test_a_terminal_is_recognised() -> None:
+    """A pseudo-terminal gets the redrawn bar; the same bar on a pipe prints lines."""
+    import os
+
+    main, other = os.openpty()
+    try:
+        with os.fdopen(other, "w", closefd=False) as tty:
+            assert ProgressBar(0.0, 1.0, stream=tty).terminal
+    finally:
+        os.close(main)
+        os.close(other)
+    read, write = os.pipe()
+    try:
+        with os.fdopen(write, "w", closefd=False) as pipe:
+            assert not ProgressBar(0.0, 1.0, stream=pipe).terminal
+    finally:
+        os.close(read)
+        os.close(write)

@@ -61,7 +61,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from orchestrator.cosim.simulation import format_summary, run_scenario
     from orchestrator.scenario import apply_overrides
 
-    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [], what="--set")
     if args.duration is not None:
         _override_duration(scenario, args.duration)
     if args.out is not None:
@@ -185,13 +185,13 @@ def cmd_resume(args: argparse.Namespace) -> int:
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    from orchestrator.results.plotting import plot_file, plot_joint_raos
+    from orchestrator.results.plotting import plot_file
+    from orchestrator.results.response_plots import joints_file_name, plot_joint_raos
 
     from .sweeps.plotting import DRAWERS
 
     if args.joints:
-        names = "_".join(Path(f).stem for f in args.file)
-        target = Path(args.out or Path(args.file[0]).parent) / f"{names}_joints.png"
+        target = Path(args.out or Path(args.file[0]).parent) / joints_file_name(args.file, args.joints)
         print(plot_joint_raos(args.file, args.joints, target))
         return 0
     for file in args.file:
@@ -263,7 +263,10 @@ def _seconds(text: str) -> float:
 
 
 def parser() -> argparse.ArgumentParser:
+    from . import version
+
     p = _Parser(prog="wec-cosim", description="Multibody wave-energy co-simulation.")
+    p.add_argument("--version", action="version", version=f"wec-cosim {version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("run", help="run a time-domain co-simulation")
     r.add_argument("scenario")
@@ -319,7 +322,8 @@ def parser() -> argparse.ArgumentParser:
     g.add_argument("file", nargs="+")
     g.add_argument("--out", help="folder for the PNG files (default: next to the (first) file)")
     g.add_argument("--joints", nargs="+", metavar="NAME[k]",
-                   help="RAO files: one figure of these joint coordinates' RAOs from all the files given")
+                   help="RAO files: one figure of these joint coordinates' RAOs from all the files given (NAME: "
+                        "every coordinate of the joint, NAME[k]: the k-th)")
     g.set_defaults(func=cmd_plot)
     w = sub.add_parser("sweep", help="power matrices, PTO studies, seed ensembles: one run per case on Dask")
     w.add_argument("scenario")

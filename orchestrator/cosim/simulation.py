@@ -83,11 +83,22 @@ class RunResult:
     notes: list[str] = field(default_factory=list)
     mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
     power_window: str = ""
+    setup_time: float = math.nan  # s of wall time before the first step: scene, FMUs (build, compile), initialisation
 
     @property
     def real_time_factor(self) -> float:
-        """Simulated seconds per wall-clock second."""
+        """Simulated seconds per wall-clock second of stepping (``wall_time``; set-up not counted)."""
         return self.simulated_time / self.wall_time if self.wall_time > 0 else math.inf
+
+    def dataset(self):  # noqa: ANN201 - xarray.Dataset (xarray is imported here, not with this module)
+        """The results file as a labelled xarray dataset (:func:`orchestrator.results.datasets.results_dataset`)."""
+        from orchestrator.results.datasets import results_dataset
+
+        return results_dataset(self.path)
+
+    def summary(self) -> str:
+        """What ``wec-cosim run`` prints at the end (:func:`format_summary`)."""
+        return format_summary(self)
 
 
 def make_components(fmus: dict[str, Path], in_process: bool = False) -> dict:
@@ -108,6 +119,7 @@ class RunPlan:
     control: ControlLoop | None = None
     radiation: dict = field(default_factory=dict)
     mobility: dict | None = None
+    started: float = field(default_factory=time.perf_counter)  # perf_counter when the run's set-up began
 
     @property
     def series(self) -> dict[str, tuple[int, ...]]:
@@ -162,6 +174,9 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
                 "output_every": sim.output_every, "adaptive": asdict(sim.adaptive),
                 "fmi": "none" if sim.master == "monolithic" else ("in-process" if in_process else "fmpy"),
                 "overrides": list(scenario._overrides)}
+    notice = compile_notice(scene)
+    if notice and log is not None:
+        log(notice)
     if sim.master == "monolithic":
         master: Master | MonolithicMaster = MonolithicMaster(scene, observe)
         links: list = []
@@ -189,6 +204,55 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
     if report and log is not None:
         log(f"multibody: {report['summary']}")
     return RunPlan(scene, master, controller, Recorder(scene, master), links, settings, control, mobility=report)
+
+
+# CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
+# kernels in benchmarks/results/first_run.txt (146-164 s), the hydrodynamic ones and the null-space ones in
+# benchmarks/results/first_run_notice.txt (a cold cylinder run 12.8 s of CPU against 5.0 s warm; a cold
+# null-space hinge-barge run 195 s in all).
+COMPILE_SECONDS = {("hydro_fmu", "kernels"): 8.0, ("mbd_fmu", "kernels"): 155.0,
+                   ("mbd_fmu", "nullspace_kernels"): 35.0}
+
+
+def compile_notice(scene: Scene) -> str | None:
+    """A line to show before the FMUs start when their compiled kernels are not in the cache yet (the first run
+    of this version of the sources): which, how long it takes, and where the result is kept; None when warm."""
+    import hydro_fmu
+    import mbd_fmu
+    from fmu_base._jit import cache_root
+
+    needed = [("hydro_fmu", "kernels")]
+    formulation = scene.scenario.formulation
+    if formulation != "linear":
+        needed.append(("mbd_fmu", "kernels"))
+    if formulation == "nullspace":
+        needed.append(("mbd_fmu", "nullspace_kernels"))
+    folders = {"hydro_fmu": Path(hydro_fmu.__file__).parent, "mbd_fmu": Path(mbd_fmu.__file__).parent}
+    missing = [(pkg, mod) for pkg, mod in needed if not is_compiled(folders[pkg] / f"{mod}.py")]
+    if not missing:
+        return None
+    seconds = sum(COMPILE_SECONDS[m] for m in missing)
+    what = " and ".join({"hydro_fmu": "hydrodynamic", "mbd_fmu": "multibody"}[pkg] + (" null-space" if "null" in mod
+                                                                                      else "")
+                        for pkg, mod in missing)
+    span = f"about {seconds / 60:.1g} minutes" if seconds >= 90 else f"about {seconds:.0f} s"
+    return (f"compiling the {what} kernels for this version of wec-cosim: {span} of CPU on a 2-core machine, longer "
+            f"under load; once: later runs load them from {cache_root()} ...")
+
+
+def is_compiled(py_file: Path) -> bool:
+    """Whether the machine code of the kernel module at ``py_file`` (its current sources) is in numba's cache
+    (:mod:`fmu_base._jit`), so that its first use loads it instead of compiling it; true when nothing is compiled
+    (numba absent, ``WEC_COSIM_NO_JIT``)."""
+    from fmu_base._jit import AVAILABLE, cache_root, source_stamp
+
+    if not AVAILABLE:
+        return True
+    try:
+        folder = cache_root() / f"{py_file.parent.name}.{py_file.stem}-{source_stamp(py_file)}"
+        return folder.is_dir() and any(folder.glob("*.nbi"))
+    except OSError:
+        return True
 
 
 def mobility(scene: Scene) -> dict | None:
@@ -223,12 +287,14 @@ def run_scenario(
     ``scene``: a loaded scene whose database is reused (the scenario may be a variant of its own).
     """
     sim = scenario.simulation
+    started = time.perf_counter()
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
     lock = ResultsLock(path)  # one writer per results file: a second run on it refuses here
     try:
         plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
+        plan.started = started
     except BaseException:
         lock.release()
         raise
@@ -284,12 +350,14 @@ def _resume(results: Path, lock: ResultsLock, log, progress: bool) -> RunResult:
     saved = read_checkpoint(checkpoint_path(results))
     from orchestrator.scenario import apply_overrides
 
-    scenario = apply_overrides(parse_scenario(text, scenario_file), stored.get("overrides", []))
+    scenario = apply_overrides(parse_scenario(text, scenario_file), stored.get("overrides", []), what="--set")
     scenario.simulation.duration = stored.get("duration", scenario.simulation.duration)  # `run --duration`
     if scenario.control.mode != "off":
         raise WecCosimError(f"{results}: a run driven by an external controller cannot be resumed (the "
                             "controller's own state is not in the checkpoint); run it again")
+    started = time.perf_counter()
     plan = prepare_run(scenario, in_process=stored.get("fmi") == "in-process", log=log, progress=progress)
+    plan.started = started
     sim = scenario.simulation
     old = read_results(results)
     rows = saved["rows"]
@@ -376,6 +444,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         bar.update(t)
 
     start = time.perf_counter()
+    setup = start - plan.started
     try:
         with interrupt:
             master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
@@ -404,7 +473,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     except OSError as exc:  # the last rows could not be flushed
         _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
-                       radiation=plan.radiation, mobility=plan.mobility)
+                       radiation=plan.radiation, mobility=plan.mobility, setup_time=setup)
     data = read_results(writer.path) if plan.recorder.wave_balance else None
     if data is not None:
         result.energy = energy_account(data)
@@ -416,7 +485,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.notes.append(
                 f"no comparison with the exact steady state: the run ({sim.duration:g} s) is shorter than the ramp "
                 f"and simulation.steady_periods = {sim.steady_periods:g} wave periods ({needed:g} s)")
-    if not result.comparisons and scenario.ptos:
+    if scenario.ptos:  # also beside the comparison: the Python API reads it (the summary prints it once)
         with h5py.File(writer.path, "r", swmr=True) as f:
             result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
@@ -575,10 +644,12 @@ def format_summary(result: RunResult) -> str:
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
                      f"{r['frequency_error']:.3g}")
-    if result.mean_power:
+    if result.mean_power and not result.comparisons:  # (compared with the exact answer: in the table above)
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes
+    setup = f"set-up {result.setup_time:.2f} s (scene, FMUs, initialisation), " if math.isfinite(
+        result.setup_time) else ""
     lines.append(
-        f"wall time {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
+        f"wall time: {setup}stepping {result.wall_time:.2f} s for {result.simulated_time:g} s simulated "
         f"({result.steps} macro steps): real-time factor {result.real_time_factor:.1f}")
     return "\n".join(lines)

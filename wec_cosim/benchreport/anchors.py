@@ -24,7 +24,7 @@ class Anchor:
     difference: str
 
 
-CHRONO = "a C++ code built on Project Chrono, as reported on an AMD Ryzen 9 9950X (issue 19)"
+CHRONO = "a C++ code built on Project Chrono, as reported for an AMD Ryzen 9 9950X (quoted, not measured here)"
 ANCHORS = (
     Anchor("sphere free decay, dt 0.015 s", 659.0, CHRONO,
            Variant("scenarios/disc_decay.toml", ("simulation.step=0.015", "simulation.duration=29.985")),

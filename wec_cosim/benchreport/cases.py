@@ -80,13 +80,14 @@ RADIATION = Factor("radiation", (
 IRREGULAR_SEA = ("waves.kind=irregular", "waves.spectrum=jonswap", "waves.hs=1.0", "waves.tp=6.0", "waves.seed=7")
 
 CASES = (
-    Case("hinge_barge", "Hinge barge (seed 003), regular waves H 0.02 m T 2 s, two bodies, one hinge, index-3",
+    Case("hinge_barge", "Hinge barge (Paparella et al.), regular waves H 0.02 m T 2 s, two bodies, one hinge, index-3",
          Variant("scenarios/hinge_barge.toml"), errors.regular_wave_error,
          "largest complex relative error |X - X_exact| / |X_exact| of the steady first harmonic over the six body "
          "DOFs and the hinge angle, against the exact frequency-domain answer",
          steps=(0.08, 0.04, 0.02, 0.01), quick_steps=(0.04, 0.02, 0.01), default_step=0.02,
          factors=(MASTER, EXTRAPOLATION, FORMULATION, RADIATION)),
-    Case("f3of_dt3", "F3OF decay test 3 (seed 000), base fixed, flap released from 10 deg, three bodies, two hinges",
+    Case("f3of_dt3", "F3OF decay test 3 (the InWave+H paper), base fixed, flap released from 10 deg, three bodies, "
+                     "two hinges",
          Variant("scenarios/f3of_dt3.toml", ("simulation.duration=1500",)), errors.decay_error,
          "largest relative error of the period and damping ratio of the two free modes (fit after 300 s) "
          "against the roots of the linear model (a floor of about 1.7 % remains at small steps, the same for "

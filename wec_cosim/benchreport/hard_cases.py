@@ -295,7 +295,7 @@ def long_run(quick: bool, log: Callable[[str], None] = print) -> LongRun:
     window = duration / 3 if quick else 3600.0
     variant = Variant("scenarios/hinge_barge.toml", (*LONG_SEA, f"simulation.duration={duration:g}"))
     p = run_point(variant, measures=_long_run_measures(window))
-    run = LongRun(f"Hinge barge (seed 003) in a JONSWAP sea Hs 0.02 m Tp 2 s for {duration:g} s", p, window,
+    run = LongRun(f"Hinge barge (Paparella et al.) in a JONSWAP sea Hs 0.02 m Tp 2 s for {duration:g} s", p, window,
                   **{k: p.extra[k] for k in ("max_violation", "first_violation", "last_violation",
                                              "energy_residual", "largest_energy_residual") if k in p.extra})
     log(f"long run {duration:g} s: {p.status}, wall {p.wall_time:.1f} s, RTF {p.real_time_factor:.1f}, "

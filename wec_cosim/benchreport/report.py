@@ -283,8 +283,8 @@ def anchors_section(rep: Report, log: Callable[[str], None]) -> str:
                   "index-3; `benchmarks/bench_speed.py` part 1, minimum of 3 runs):", "",
                   "| mechanism | Exudyn us/step | ours us/step | ratio |", "|---|---|---|---|"]
         lines += [f"| {k} | {e:.1f} | {o:.1f} | {o / e:.2f} |" for k, (e, o) in exu.items()]
-    lines += ["", "Seed 003 (Paparella et al.) compares computational times of its pseudo-spectral DAE/ODE forms with "
-              "Runge-Kutta only in figures (its Figs. 6 and 7; no numbers in the text): our pseudo-spectral solver's "
+    lines += ["", "Paparella et al. compare computational times of their pseudo-spectral DAE/ODE forms with "
+              "Runge-Kutta only in figures (their Figs. 6 and 7; no numbers in the text): our pseudo-spectral solver's "
               "timings are in `benchmarks/results/pseudo_spectral.txt` (`python benchmarks/bench_pseudo_spectral.py`)."]
     return "\n".join(lines)
 

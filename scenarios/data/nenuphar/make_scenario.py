@@ -1,4 +1,4 @@
-"""Write ``scenarios/nenuphar.toml``: the Nenuphar of seed 001 (Table 1) with numbers computed here.
+"""Write ``scenarios/nenuphar.toml``: the Nenuphar of the Nenuphar paper (Table 1) with numbers computed here.
 
 The device has the symmetry of a regular hexagon (six rotations by 60 deg and the mirrors), and
 its tests check that the model keeps it to round-off; positions, axes and inertia tensors of the
@@ -151,7 +151,7 @@ ea = {g(LINE["ea"])}
     print(f"wrote {OUT}")
 
 
-HEADER = '''# Nenuphar seven-body wave energy converter of seed 001 (Table 1), written by
+HEADER = '''# Nenuphar seven-body wave energy converter of the Nenuphar paper (Table 1), written by
 # scenarios/data/nenuphar/make_scenario.py (edit that file, not this one). docs/nenuphar.md says what
 # comes from the paper and what is chosen here.
 # Hexagonal central body (13.0 m across the flats, draft 0.7 m) and six lateral bodies (15.0 x 7.5 m,
@@ -160,7 +160,7 @@ HEADER = '''# Nenuphar seven-body wave energy converter of seed 001 (Table 1), w
 # Table 2), six catenary mooring lines from the hexagon's corners. Lateral body k lies at 60 (k - 1) deg;
 # at heading 0 the waves meet body 4 first and body 1 last (the paper's Figure 5).
 name = "nenuphar"
-description = "Seed 001 Nenuphar: hexagonal hub, six hinged rafts with rotary PTOs, tethered heave PTO, catenaries"
+description = "Nenuphar paper: hexagonal hub, six hinged rafts with rotary PTOs, tethered heave PTO, catenaries"
 
 [simulation]
 duration = 72.0          # s: 15 periods
