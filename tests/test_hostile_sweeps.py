@@ -4,7 +4,8 @@ workers run cases) and twice in a row.
 
 Each ends with exit status 130 and one paragraph (the sweep file keeps what finished, status ``interrupted``);
 never a worker's KeyboardInterrupt traceback. Two of the moments are marked slow: each case pays for planning ten
-thousand cases and starting a cluster. A lost connection to the scheduler stops the sweep instead of recording every pending case as failed.
+thousand cases and starting a cluster. A lost connection to the scheduler stops the sweep instead of recording
+every pending case as failed.
 """
 
 from __future__ import annotations
