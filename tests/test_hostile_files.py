@@ -82,15 +82,18 @@ def wait_for_rows(path: Path, rows: int = 20, proc: subprocess.Popen | None = No
 def test_a_second_writer_refuses_and_the_first_run_completes(tmp_path, scenario, second) -> None:
     out = tmp_path / "r.h5"
     short = scenario.with_name("short.toml")
-    first = start(["run", str(scenario), "--quiet", "--out", str(out), "--duration", "400"])
+    # 1500 s of the cylinder step in about 15 s at a load of 6 on 2 cores: the second process (its imports take
+    # seconds) must meet the first still writing; 400 s were sometimes done before it arrived
+    first = start(["run", str(scenario), "--quiet", "--out", str(out), "--duration", "1500"])
     wait_for_rows(out, rows=1, proc=first)
     args = ["run", str(short), "--quiet", "--out", str(out)] if second == "run" else ["resume", str(out), "--quiet"]
     code, err = finish(start(args))
+    assert first.poll() is None, "the first run ended before the second was refused: the test proves nothing"
     one_clean_error(code, err, str(out), "being written by another wec-cosim process", f"process {first.pid}")
     code, err = finish(first)
     assert code == 0, err
     with h5py.File(out, "r") as f:
-        assert f.attrs["status"] == "completed" and len(f["time"]) == 4001
+        assert f.attrs["status"] == "completed" and len(f["time"]) == 15001
     assert not Path(str(out) + ".lock").exists()
 
 

@@ -63,10 +63,7 @@ def run_sweep(scenario: Scenario, out: str | Path, *, scheduler: str | None = No
         with first_ctrl_c_only():
             return _run(plan, store, scenario, client, in_process, scheduler, workers, retry_failed, progress, log)
     except KeyboardInterrupt:
-        with deaf_to_ctrl_c():
-            assemble(store)
-            store.finish("interrupted")
-            done = len(store.statuses())
+        done = _stop(store, "interrupted")
         raise SweepInterrupted(
             f"interrupted: {done} of {len(plan.cases)} cases are in {store.path}; run the same command again "
             f"to run the {len(plan.cases) - done} missing ones") from None
@@ -100,10 +97,7 @@ def _run(plan: SweepPlan, store: SweepStore, scenario: Scenario, client, in_proc
         raise
     except SchedulerLost as exc:
         bar.close()
-        with deaf_to_ctrl_c():
-            assemble(store)
-            store.finish("interrupted: the connection to the Dask scheduler was lost")
-            done = len(store.statuses())
+        done = _stop(store, "interrupted: the connection to the Dask scheduler was lost")
         raise WecCosimError(
             f"{exc}: the sweep stopped; {done} of {len(plan.cases)} cases are in {store.path} (the cases that were "
             f"running have no result, none is recorded as failed); run the same command again to run the "
@@ -116,6 +110,15 @@ def _run(plan: SweepPlan, store: SweepStore, scenario: Scenario, client, in_proc
     store.finish(("completed" if not n_failed else f"completed, {n_failed} cases failed") if complete
                  else "incomplete")
     return SweepOutcome(store.path, plan, already, len(todo), failed, store.duplicates, time.perf_counter() - start)
+
+
+def _stop(store: SweepStore, status: str) -> int:
+    """Record a stopped sweep (matrices of what finished, ``status``), deaf to a further Ctrl-C; the number of
+    cases in the file."""
+    with deaf_to_ctrl_c():
+        assemble(store)
+        store.finish(status)
+        return len(store.statuses())
 
 
 @contextmanager
