@@ -44,7 +44,12 @@ class ResultsLock:
         self.path = lock_path(results)
         self.fd: int | None = None
         while True:  # the lock file may be removed by the holder between our open and our lock: try again
-            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                self.path.parent.mkdir(parents=True, exist_ok=True)  # the results' folder, as the writer makes it
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as exc:
+                raise WecCosimError(f"cannot create the lock file {self.path} of {self.results} ({exc.strerror}); "
+                                    "give an output file in a folder you can write (--out)") from None
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
