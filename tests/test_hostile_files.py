@@ -97,6 +97,20 @@ def test_a_second_writer_refuses_and_the_first_run_completes(tmp_path, scenario,
     assert not Path(str(out) + ".lock").exists()
 
 
+def test_the_lock_is_taken_in_a_results_folder_that_does_not_exist_yet(tmp_path) -> None:
+    """``--out`` in folders still to be made: the lock file goes beside the results, the folders made first (the
+    run wrote into new folders before the lock existed, and must still)."""
+    from .test_malformed_generated import run_in_process
+
+    (tmp_path / "s.toml").write_text(dumps(cylinder(1.0)))
+    out = tmp_path / "new" / "deeper" / "r.h5"
+    code, stderr = run_in_process(["run", str(tmp_path / "s.toml"), "--quiet", "--out", str(out)])
+    assert code == 0, stderr
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "completed" and len(f["time"]) == 11  # 1 s in steps of 0.1 s, both ends
+    assert not Path(str(out) + ".lock").exists()
+
+
 # ------------------------------------------------------------------------------------------- the file removed
 def _delete(out: Path) -> None:
     out.unlink()
