@@ -19,6 +19,15 @@ Layout, as seen from h5py (row-major; WEC-Sim's MATLAB writer produces the same 
 
 Normalisations are those of WEC-Sim's ``normalizeBEM``; reading undoes them. Complex
 amplitudes use WEC-Sim's ``exp(+i omega t)`` convention, as :mod:`hydro_fmu.hdb` does.
+
+Both BEMIO writers are read: the MATLAB ``writeBEMIOH5`` (scalars stored as (1, 1), vectors as (N, 1),
+strings as variable-length arrays, attributes ``units``) and the older Python ``bemio`` ``write_hdf5``
+(no ``dof``/``dof_start``/``dof_end``, ``water_depth`` may be the string ``infinite``, extra
+``components`` groups, which are ignored). The ``froude-krylov`` and ``scattering`` parts are optional: a
+file without them, or with NaN in them (BEMIO fills them with NaN when the BEM run did not compute them),
+reads without them, and ``extra["excitation_parts"]`` says why; a scene that needs them says so then. The
+impulse-response and state-space groups (:mod:`hydro_fmu.bemio_groups`) are optional too, and written
+on request (``write_bemio(..., wec_sim_groups=True)``).
 """
 
 from __future__ import annotations
@@ -31,10 +40,19 @@ import numpy as np
 from .hdb import HydroDatabase, HydroDatabaseError
 from .hdf5_reading import CheckedFile
 
+EXCITATION_PARTS = "excitation_parts"  # HydroDatabase.extra key: why the Froude-Krylov/diffraction parts are absent
 
-def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "") -> Path:
-    """Write ``hdb`` as a BEMIO HDF5 file; returns the path."""
+
+def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "", *, wec_sim_groups: bool = False) -> Path:
+    """Write ``hdb`` as a BEMIO HDF5 file; returns the path. ``wec_sim_groups``: add the radiation impulse
+    response, its per-entry state-space realisation and the excitation impulse response that WEC-Sim's body class
+    reads (:mod:`hydro_fmu.bemio_groups`; a few seconds of fitting)."""
     path = Path(path)
+    realisation = None
+    if wec_sim_groups:
+        from .bemio_groups import realise
+
+        realisation = realise(hdb)
     path.parent.mkdir(parents=True, exist_ok=True)
     rho, g, w = hdb.rho, hdb.g, hdb.omega
     n = hdb.n_dofs
@@ -79,6 +97,10 @@ def write_bemio(hdb: HydroDatabase, path: str | Path, code: str = "") -> Path:
             if hdb.diffraction is not None:
                 _write_complex(ex.create_group("scattering"), hdb.diffraction[:, :, rows], rho * g,
                                "Scattering (diffraction) force")
+            if realisation is not None:
+                from .bemio_groups import write_radiation_groups
+
+                write_radiation_groups(hc, hdb, rows, realisation, _dataset)
         assert n == 6 * hdb.n_bodies
     return path
 
@@ -96,6 +118,18 @@ def read_bemio(path: str | Path) -> HydroDatabase:
                           fix="write the database again (BEMIO, Capytaine or `wec-cosim hydro`)")
     with f, checked.guard():
         return _read(f, path, checked)
+
+
+def read_wec_sim_groups(path: str | Path):
+    """The impulse-response and state-space groups of a BEMIO file, SI units
+    (:class:`hydro_fmu.bemio_groups.RadiationGroups`; fields None where the file has no such group)."""
+    from .bemio_groups import read_radiation_groups
+
+    hdb = read_bemio(path)
+    with h5py.File(path, "r") as f:
+        bodies = sorted((k for k in f if k.startswith("body") and k[4:].isdigit()), key=lambda k: int(k[4:]))
+        return read_radiation_groups(f, bodies, hdb.n_dofs, len(hdb.headings), hdb.rho, hdb.g,
+                                     lambda value, shape, what: _shaped(value, shape, Path(path), what))
 
 
 def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
@@ -121,7 +155,7 @@ def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
     X = np.zeros((nh, nw, n), complex)
     FK = np.zeros((nh, nw, n), complex)
     DF = np.zeros((nh, nw, n), complex)
-    have_parts = True
+    parts_note = ""
     C = np.zeros((nb, 6, 6))
     cg, cb, vol, names = np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), []
     for b, key in enumerate(bodies):
@@ -132,7 +166,7 @@ def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
             raise HydroDatabaseError(
                 f"{path}: {key} has {dof} degrees of freedom; only rigid bodies (6) are supported"
             )
-        name = checked.text(props, "name")
+        name = checked.text(props, "name").strip().rstrip("\x00")
         names.append(name if name not in names else f"{name}_{b + 1}")
         cg[b] = _shaped(need(props, "cg", 3), (3,), path, f"{key} cg")
         cb[b] = _shaped(need(props, "cb", 3), (3,), path, f"{key} cb")
@@ -148,12 +182,15 @@ def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
             (2, 0, 1)) * rho * w[:, None, None]
         ex = checked.group(hc, "excitation")
         X[:, :, rows] = _read_complex(checked, ex, path, key, (6, nh, nw)) * rho * g
-        if checked.has(ex, "froude-krylov") and checked.has(ex, "scattering"):
-            FK[:, :, rows] = _read_complex(checked, checked.group(ex, "froude-krylov"), path, key,
-                                           (6, nh, nw)) * rho * g
-            DF[:, :, rows] = _read_complex(checked, checked.group(ex, "scattering"), path, key, (6, nh, nw)) * rho * g
-        else:
-            have_parts = False
+        for part, table in (("froude-krylov", FK), ("scattering", DF)):
+            if not (checked.has(ex, part) and checked.has(checked.group(ex, part), "re")):
+                parts_note = parts_note or f"{path} has no {ex.name}/{part} group"
+                continue
+            table[:, :, rows] = _read_complex(checked, checked.group(ex, part), path, key, (6, nh, nw)) * rho * g
+            bad = int(np.sum(~np.isfinite(table[:, :, rows])))
+            if bad:
+                parts_note = parts_note or (f"{path}: {ex.name}/{part} has {bad} non-finite values (BEMIO writes NaN "
+                                            "where the BEM run did not compute a part)")
     order = np.argsort(w)
     code = ""
     if checked.has(f, "bem_data") and checked.has(bem := checked.group(f, "bem_data"), "code"):
@@ -166,8 +203,8 @@ def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
         added_mass_inf=Ainf,
         headings=headings,
         excitation=X[:, order],
-        froude_krylov=FK[:, order] if have_parts else None,
-        diffraction=DF[:, order] if have_parts else None,
+        froude_krylov=None if parts_note else FK[:, order],
+        diffraction=None if parts_note else DF[:, order],
         hydrostatic_stiffness=C,
         cg=cg,
         cb=cb,
@@ -176,6 +213,7 @@ def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
         g=g,
         water_depth=float(depth),
         source=f"{path}" + (f" ({code})" if code else ""),
+        extra={EXCITATION_PARTS: parts_note} if parts_note else {},
     )
 
 
@@ -212,4 +250,3 @@ def _shaped(value: np.ndarray, shape: tuple[int, ...], path: Path, what: str) ->
     if value.size == int(np.prod(shape)) and 1 in value.shape:
         return value.reshape(shape)
     raise HydroDatabaseError(f"{path}: {what} has shape {value.shape}, expected {shape}")
-

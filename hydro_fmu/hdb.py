@@ -316,4 +316,5 @@ class HydroDatabase:
             g=self.g,
             water_depth=self.water_depth,
             source=self.source,
+            extra={k: v for k, v in self.extra.items() if isinstance(v, str)},  # notes; arrays by DOF do not carry
         )

@@ -1,8 +1,19 @@
-"""Imported wave data: elevation time series (CSV, HDF5) and spectra (CSV).
+"""Imported wave data: elevation time series (text, WEC-Sim .mat, HDF5) and spectra (CSV).
 
 Elevation record: uniformly sampled elevation at the world origin. Simulation time 0 is the
-record's first sample. CSV: a header row naming the columns ``t`` (s) and ``eta`` (m), comma
-separated, ``#`` comments allowed. HDF5: datasets ``t`` and ``eta`` (names configurable).
+record's first sample. The forms read, detected from the file (:attr:`ElevationRecord.form` names
+the one found, and the run's summary prints it):
+
+* text, two columns (time in s, elevation in m), separated by whitespace, commas or semicolons;
+  lines starting with ``%`` or ``#`` are comments (what MATLAB, WEC-Sim and most wave codes write),
+  and so is anything after ``%`` or ``#`` on a line; an optional header row of column names;
+* text with more columns: a header row must name the time column (``t``, ``time``) and the
+  elevation column (``eta``, ``elevation``, ``wave_elevation``); units in brackets are allowed
+  (``time [s]``, ``eta (m)``);
+* WEC-Sim's ``etaImport``/``elevationImport`` file: a MATLAB ``.mat`` file holding one N x 2 array
+  [time, elevation] (MATLAB 5 files through scipy, MATLAB 7.3 files through h5py); with several
+  arrays, the one named ``etaData``, ``elevationData``, ``eta`` or ``data``;
+* HDF5: datasets ``t`` and ``eta`` (names configurable).
 
 As wave components (for frequency-domain superposition) the record is one period of a Fourier
 series: component k of the real FFT, at omega_k = 2 pi k / (N dt), k = 1 .. N/2 (the mean is
@@ -17,6 +28,7 @@ S(omega) = S(f) / (2 pi)).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -37,6 +49,7 @@ class ElevationRecord:
     dt: float
     eta: np.ndarray
     source: str = ""
+    form: str = ""  # the file's form as detected, e.g. "two columns, whitespace-separated, 3 comment lines"
 
     @property
     def duration(self) -> float:
@@ -71,16 +84,132 @@ class ElevationRecord:
 
 
 def read_elevation(path: str | Path, *, time_dataset: str = "t", elevation_dataset: str = "eta") -> ElevationRecord:
-    """Read an elevation record from ``.csv`` or ``.h5``/``.hdf5`` (module docstring)."""
+    """Read an elevation record in any of the forms of the module docstring."""
     path = Path(path)
     if not path.is_file():
         raise WaveDataError(f"wave elevation file {path} does not exist")
-    if path.suffix.lower() in (".h5", ".hdf5"):
+    suffix = path.suffix.lower()
+    if suffix in (".h5", ".hdf5"):
         t, eta = _read_h5(path, time_dataset, elevation_dataset)
+        form = f"HDF5, datasets {time_dataset} and {elevation_dataset}"
+    elif suffix == ".mat":
+        t, eta, form = _read_mat(path)
     else:
-        columns = _read_csv(path, {"t", "eta"})
-        t, eta = columns["t"], columns["eta"]
-    return _uniform_record(path, t, eta)
+        t, eta, form = _read_columns(path)
+    record = _uniform_record(path, t, eta)
+    return ElevationRecord(dt=record.dt, eta=record.eta, source=record.source, form=form)
+
+
+TIME_NAMES = ("t", "time", "times", "time_s")
+ELEVATION_NAMES = ("eta", "elevation", "wave_elevation", "surface_elevation", "eta_m", "wave")
+MAT_NAMES = ("etaData", "elevationData", "eta", "data")
+_SEPARATORS = {",": "comma", ";": "semicolon", None: "whitespace"}
+
+
+def _column_name(text: str) -> str:
+    """A header cell without units and quotes, lower case: 'Time [s]' -> 'time'."""
+    text = re.sub(r"[\[(].*?[\])]", "", text).strip().strip("\"'").strip().lower()
+    return re.sub(r"[\s\-]+", "_", text)
+
+
+def _read_columns(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
+    """Time and elevation from a text table (module docstring), and the form found."""
+    try:
+        raw = path.read_text(encoding="utf-8-sig", errors="strict").splitlines()
+    except UnicodeDecodeError:
+        raise WaveDataError(f"{path}: not a text file (not UTF-8); an elevation record is a text table of time and "
+                            "elevation, a WEC-Sim .mat file or an HDF5 file (.h5)") from None
+    comments, rows = 0, []
+    for number, line in enumerate(raw, start=1):
+        stripped = line.strip()
+        if stripped[:1] in ("%", "#"):
+            comments += 1
+            continue
+        stripped = stripped.split("#")[0].split("%")[0].strip()
+        if stripped:
+            rows.append((number, stripped))
+    if not rows:
+        raise WaveDataError(f"{path}: the file is empty (no data rows, only blank or comment lines)")
+    first = rows[0][1]
+    sep = "," if "," in first else ";" if ";" in first else None
+    split = (lambda text: [p.strip() for p in text.split(sep)]) if sep else str.split
+
+    def numbers(text: str) -> list[float] | None:
+        try:
+            return [float(p) for p in split(text)]
+        except ValueError:
+            return None
+
+    # A header's units in brackets may contain spaces ("Time [s]"): drop them before splitting on whitespace.
+    header = None if numbers(first) is not None else split(re.sub(r"\s*[\[(][^\])]*[\])]", "", first))
+    data_rows = rows[1:] if header is not None else rows
+    width = len(header) if header is not None else len(split(data_rows[0][1])) if data_rows else 0
+    if header is not None:
+        names = [_column_name(h) for h in header]
+        ti = next((i for i, n in enumerate(names) if n in TIME_NAMES), None)
+        ei = next((i for i, n in enumerate(names) if n in ELEVATION_NAMES), None)
+        if (ti is None or ei is None) and width == 2:
+            ti, ei = 0, 1
+        elif ti is None or ei is None:
+            raise WaveDataError(
+                f"{path}:{rows[0][0]}: the header row {first!r} has {width} columns but does not name the time column "
+                f"({', '.join(TIME_NAMES)}) and the elevation column ({', '.join(ELEVATION_NAMES)}); name them so, or "
+                "keep only two columns: time (s) and elevation (m)")
+    elif width == 2:
+        ti, ei = 0, 1
+    else:
+        raise WaveDataError(
+            f"{path}:{data_rows[0][0]}: {width} columns and no header row: keep two columns, time (s) and elevation "
+            f"(m), or add a header row naming the columns t and eta")
+    data = _numeric_rows(path, data_rows, width, split,
+                         f" (as in the {'header' if header is not None else 'first row'})")
+    form = (f"{'two' if width == 2 else width} columns, {_SEPARATORS[sep]}-separated"
+            + (f", header {first!r}" if header is not None else "")
+            + (f", {comments} comment line{'s' if comments != 1 else ''}" if comments else ""))
+    return data[:, ti], data[:, ei], form
+
+
+def _read_mat(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
+    """WEC-Sim's etaImport file: one N x 2 array [time, elevation] in a MATLAB .mat file."""
+    with open(path, "rb") as handle:
+        head = handle.read(128)
+    arrays: dict[str, np.ndarray] = {}
+    if head[:8] == b"\x89HDF\r\n\x1a\n" or b"MATLAB 7.3" in head:
+        import h5py
+
+        version = "MATLAB 7.3"
+        try:
+            with h5py.File(path, "r") as f:
+                for name, item in f.items():
+                    if isinstance(item, h5py.Dataset) and item.dtype.kind in "fiu":
+                        arrays[name] = np.asarray(item[()], dtype=float).T  # MATLAB's column-major order
+        except OSError as exc:
+            raise WaveDataError(f"{path}: not a readable MATLAB 7.3 (HDF5) file ({exc})") from None
+    else:
+        from scipy.io import loadmat
+
+        version = "MATLAB 5"
+        try:
+            content = loadmat(path)
+        except Exception as exc:  # noqa: BLE001 - scipy raises several types for damaged files
+            raise WaveDataError(f"{path}: not a readable MATLAB .mat file ({exc})") from None
+        arrays = {k: np.asarray(v) for k, v in content.items()
+                  if not k.startswith("__") and isinstance(v, np.ndarray) and v.dtype.kind in "fiu"}
+    pairs = {k: (v if v.shape[1:] == (2,) else v.T) for k, v in arrays.items()
+             if v.ndim == 2 and 2 in v.shape and max(v.shape) >= 2}
+    if not pairs:
+        found = ", ".join(f"{k} {tuple(v.shape)}" for k, v in arrays.items()) or "no numeric arrays"
+        raise WaveDataError(f"{path}: a WEC-Sim elevation file holds one N x 2 array [time, elevation]; found {found}")
+    name = next((n for n in MAT_NAMES if n in pairs), None)
+    if name is None and len(pairs) > 1:
+        raise WaveDataError(f"{path}: several N x 2 arrays ({', '.join(pairs)}); name the elevation record "
+                            f"{MAT_NAMES[0]} (WEC-Sim's name)")
+    name = name or next(iter(pairs))
+    table = pairs[name].astype(float)
+    bad = ~np.isfinite(table)
+    if bad.any():
+        raise WaveDataError(f"{path}: {name} is not finite at row {int(np.argwhere(bad)[0][0]) + 1}")
+    return table[:, 0], table[:, 1], f"WEC-Sim elevation file ({version} .mat, array {name}, {len(table)} rows)"
 
 
 def read_spectrum(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
@@ -88,7 +217,7 @@ def read_spectrum(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     path = Path(path)
     if not path.is_file():
         raise WaveDataError(f"wave spectrum file {path} does not exist")
-    columns = _read_csv(path, None)
+    columns = _read_csv(path)
     if "S" not in columns or not ({"omega", "f"} & set(columns)):
         raise WaveDataError(f"{path}: the header must name the columns omega,S (rad/s, m^2 s/rad) or f,S "
                             f"(Hz, m^2/Hz); found {', '.join(columns)}")
@@ -104,20 +233,25 @@ def read_spectrum(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     return omega, density
 
 
-def _read_csv(path: Path, required: set[str] | None) -> dict[str, np.ndarray]:
+def _read_csv(path: Path) -> dict[str, np.ndarray]:
+    """A comma-separated table with a header row of column names (spectrum files)."""
     lines = [ln.split("#")[0].strip() for ln in path.read_text(errors="replace").splitlines()]
     rows = [(i + 1, ln) for i, ln in enumerate(lines) if ln]
     if not rows:
         raise WaveDataError(f"{path}: the file is empty")
     header = [h.strip() for h in rows[0][1].split(",")]
-    if required is not None and not required <= set(header):
-        raise WaveDataError(f"{path}: the header row must name the columns {', '.join(sorted(required))} "
-                            f"(found {', '.join(header)})")
+    data = _numeric_rows(path, rows[1:], len(header), lambda line: line.split(","), "")
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def _numeric_rows(path: Path, rows: list[tuple[int, str]], width: int, split, expected: str) -> np.ndarray:
+    """The data rows (line number, text) as an array (len(rows), width) of finite numbers; an error names the line
+    (``expected``: what the width comes from, for the message)."""
     values = []
-    for number, line in rows[1:]:
-        parts = line.split(",")
-        if len(parts) != len(header):
-            raise WaveDataError(f"{path}:{number}: {len(parts)} values, expected {len(header)}")
+    for number, line in rows:
+        parts = split(line)
+        if len(parts) != width:
+            raise WaveDataError(f"{path}:{number}: {len(parts)} values, expected {width}{expected}")
         try:
             row = [float(p) for p in parts]
         except ValueError:
@@ -127,8 +261,7 @@ def _read_csv(path: Path, required: set[str] | None) -> dict[str, np.ndarray]:
         values.append(row)
     if not values:
         raise WaveDataError(f"{path}: no data rows after the header")
-    data = np.array(values)
-    return {name: data[:, i] for i, name in enumerate(header)}
+    return np.array(values)
 
 
 def _read_h5(path: Path, time_dataset: str, elevation_dataset: str) -> tuple[np.ndarray, np.ndarray]:

@@ -228,13 +228,25 @@ class _Instance:
 class MoorDynSystem:
     """All MoorDyn lines of a model, stepped together (module docstring)."""
 
-    def __init__(self, lines: list[LineSpec], settings: MoorDynSettings) -> None:
+    def __init__(self, lines: list[LineSpec], settings: MoorDynSettings, *, file_text: str = "",
+                 bodies: np.ndarray | None = None, offsets: np.ndarray | None = None) -> None:
+        """``lines``: one line per :class:`LineSpec` (its fairlead a coupled point, the input file written here);
+        or, with ``file_text``, a user's MoorDyn input file whose coupled points (in ID order) are attached to
+        ``bodies`` (n,) at ``offsets`` (n, 3) from their cgs (body axes); ``lines`` is then empty."""
         self.lines = list(lines)
         self.settings = settings
-        n = len(lines)
-        self.offsets = np.array([ln.offset for ln in lines], float).reshape(n, 3)
-        self.bodies = np.array([ln.body for ln in lines], dtype=int)
-        self.text = ""  # MoorDyn's input file: always written by moordyn_input from the lines, never read from a state
+        self.file_text = file_text
+        if file_text:
+            self.offsets = np.asarray(offsets, float).reshape(-1, 3)
+            self.bodies = np.asarray(bodies, dtype=int)
+        else:
+            self.offsets = np.array([ln.offset for ln in lines], float).reshape(len(lines), 3)
+            self.bodies = np.array([ln.body for ln in lines], dtype=int)
+        n = len(self.bodies)
+        self.end_tensions = np.zeros((0, 2))  # tension at end A and end B of every line (N), last accepted state
+        # MoorDyn's input file: the user's file (from the scenario) or written by moordyn_input from the lines;
+        # never read from a state
+        self.text = ""
         self.start_fairleads = np.zeros((n, 3))  # fairleads at the start (coupled points of the input file)
         self.t = math.nan  # time of the last accepted state
         self.t_prev = math.nan
@@ -262,13 +274,14 @@ class MoorDynSystem:
             return
         x, _ = self.fairleads(k)
         self.start_fairleads = x.copy()
-        self.text = moordyn_input(self.lines, self.settings, x)
+        self.text = self.file_text or moordyn_input(self.lines, self.settings, x)
         instance = _Instance(self.text, x.ravel(), np.zeros(x.size), compute_ic=True)
         self._adopt(instance)
         self.x = x
         self.t = self.t_prev = float(k.t)
         self.v = np.zeros_like(x)
         self.force = self.force_prev = self._step(x, self.v, self.t, 0.0)
+        self.end_tensions = self._end_tensions()
 
     # ------------------------------------------------------------------ forces
     def force_at(self, line: int, t: float) -> np.ndarray:
@@ -300,6 +313,7 @@ class MoorDynSystem:
         self.force_prev, self.force = self.force, force
         self.t_prev, self.t = self.t, float(k.t)
         self.x, self.v = x1, v1
+        self.end_tensions = self._end_tensions()
 
     def _step(self, x: np.ndarray, v: np.ndarray, t: float, h: float) -> np.ndarray:
         import moordyn
@@ -310,7 +324,16 @@ class MoorDynSystem:
         except RuntimeError as exc:
             detail = _tail(instance.log)
             raise MoorDynError(f"MoorDyn failed at t = {t:g} s: {exc}" + (f" ({detail})" if detail else "")) from None
-        return np.asarray(f, float).reshape(len(self.lines), 3)
+        return np.asarray(f, float).reshape(len(self.bodies), 3)
+
+    def _end_tensions(self) -> np.ndarray:
+        """(n_lines, 2): tension at end A and end B of every line (N; MoorDyn's anchor and fairlead ends)."""
+        import moordyn
+
+        system = self._active().system
+        n = moordyn.GetNumberLines(system)
+        fh, fv, ah, av = (np.asarray(v, float) for v in moordyn.GetFASTtens(system, n))
+        return np.column_stack([np.hypot(ah, av), np.hypot(fh, fv)])
 
     def tensions(self) -> np.ndarray:
         """Fairlead tension of each line at the last accepted state (N)."""
@@ -359,7 +382,7 @@ class MoorDynSystem:
     def __deepcopy__(self, memo: dict) -> MoorDynSystem:
         new = copy.copy(self)
         memo[id(self)] = new
-        for key in ("x", "v", "force", "force_prev"):
+        for key in ("x", "v", "force", "force_prev", "end_tensions"):
             setattr(new, key, getattr(self, key).copy())
         new._snapshot = self.serialized()
         return new
@@ -367,7 +390,8 @@ class MoorDynSystem:
     def __getstate__(self) -> dict:
         """Plain data: line and solver settings (as dicts), fairleads, forces, times (numbers, arrays) and
         MoorDyn's serialised state as a uint8 array. Not the input file's text: it is written again from the
-        lines (:meth:`__setstate__`), so a state cannot choose what MoorDyn reads."""
+        lines, or is the user's input file, which a state restored into a model must match
+        (:meth:`__setstate__`), so a state cannot choose what MoorDyn reads."""
         state = {k: v for k, v in self.__dict__.items()
                  if k not in ("_instance", "_snapshot", "lines", "settings", "text")}
         state["lines"] = [dataclasses.asdict(ln) for ln in self.lines]  # dicts, not objects: data only
@@ -381,6 +405,8 @@ class MoorDynSystem:
         created then."""
         state = dict(state)
         state.pop("text", None)
+        state.setdefault("file_text", "")  # states saved before MoorDyn input files were read
+        state.setdefault("end_tensions", np.zeros((0, 2)))
         snapshot = bytes(np.asarray(state.pop("moordyn_state"), dtype=np.uint8))
         try:
             lines = [LineSpec(**d) for d in state["lines"]]
@@ -388,12 +414,13 @@ class MoorDynSystem:
             start = np.asarray(state.get("start_fairleads", np.zeros((len(lines), 3))), dtype=float).reshape(-1, 3)
         except (TypeError, ValueError, KeyError) as exc:
             raise MoorDynError(f"the saved mooring-line state is not one of these lines ({exc})") from None
-        if self.__dict__.get("lines") is not None and not (_same(lines, self.lines) and settings == self.settings):
-            raise MoorDynError("the saved mooring-line state belongs to other lines or MoorDyn settings than this "
-                               "model's")
+        if self.__dict__.get("lines") is not None and not (
+                _same(lines, self.lines) and settings == self.settings and state["file_text"] == self.__dict__.get("file_text", "")):
+            raise MoorDynError("the saved mooring-line state belongs to other lines, another MoorDyn input file "
+                               "or other MoorDyn settings than this model's")
         state["lines"], state["settings"], state["start_fairleads"] = lines, settings, start
         started = not math.isnan(float(state.get("t", math.nan)))
-        state["text"] = moordyn_input(lines, settings, start) if started else ""
+        state["text"] = (state["file_text"] or moordyn_input(lines, settings, start)) if started else ""
         instance = self.__dict__.get("_instance")
         self.__dict__.update(state)
         if instance is not None and instance.owner is not None and instance.owner() is self:
@@ -444,3 +471,24 @@ class MoorDynLine(ForceElement):
 
     def commit(self, k: Kin) -> None:
         self.system.advance(k)
+
+
+@dataclass
+class MoorDynTensions(ForceElement):
+    """The tension at both ends of every line of a :class:`MoorDynSystem` as outputs (no force of its own):
+    ``[A_1, B_1, A_2, B_2, ...]`` (N), end A and end B of each line in the input file's order, at the last
+    accepted state."""
+
+    name: str
+    system: MoorDynSystem
+    n_lines: int
+
+    def apply(self, k: Kin, f: np.ndarray) -> None:
+        return None
+
+    def output(self, k: Kin) -> np.ndarray:
+        if not self.system.started:
+            self.system.start(k)
+        values = self.system.end_tensions.ravel()
+        return values if len(values) == 2 * self.n_lines else np.zeros(2 * self.n_lines)
+

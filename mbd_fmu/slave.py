@@ -515,8 +515,10 @@ def _force_outputs(f: dict) -> int:
     fairlead force (3), bushing: one per stiff or damped relative DOF."""
     if f["kind"] == "mooring":
         return 6
-    if f["kind"] == "catenary":
+    if f["kind"] in ("catenary", "moordyn_point"):
         return 3
+    if f["kind"] == "moordyn_tensions":
+        return 2 * int(f["lines"])
     if f["kind"] == "bushing":
         return sum(1 for k, c in zip(f["stiffness"], f["damping"], strict=True) if k or c)
     return 1
@@ -526,8 +528,10 @@ def _force_units(f: dict) -> list[str]:
     rot = f["kind"] in ("rotary_spring_damper", "friction") and f.get("rotational", True)
     if f["kind"] == "mooring":
         return ["N"] * 3 + ["N.m"] * 3
-    if f["kind"] == "catenary":
+    if f["kind"] in ("catenary", "moordyn_point"):
         return ["N"] * 3
+    if f["kind"] == "moordyn_tensions":
+        return ["N"] * (2 * int(f["lines"]))
     if f["kind"] == "bushing":
         return [("N.m" if d >= 3 else "N") for d, (k, c) in enumerate(zip(f["stiffness"], f["damping"], strict=True))
                 if k or c]

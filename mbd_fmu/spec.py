@@ -23,7 +23,7 @@ from .formulations import Settings
 from .joints import Driver, Harmonic, Joint, Table, TimeFunction
 from .kinematics import Pose
 from .model import MultibodyModel
-from .moordyn_lines import LineSpec, MoorDynLine, MoorDynSettings, MoorDynSystem
+from .moordyn_lines import LineSpec, MoorDynLine, MoorDynSettings, MoorDynSystem, MoorDynTensions
 from .moorings import CatenaryLine, LinearMooring
 from .simulator import MultibodySimulator
 
@@ -83,8 +83,12 @@ def _neutral(model: MultibodyModel, coord: Coordinate, pose: Pose) -> float:
     return coord.evaluate(model.kin(pose, np.zeros(model.n)))[0]
 
 
-def moordyn_lines(model: MultibodyModel, spec: dict[str, Any]) -> dict[str, MoorDynLine]:
-    """The ``catenary`` forces with ``model = "moordyn"`` as lines of one :class:`MoorDynSystem`, by name."""
+def moordyn_lines(model: MultibodyModel, spec: dict[str, Any]) -> dict[str, ForceElement]:
+    """The ``catenary`` forces with ``model = "moordyn"`` as lines of one :class:`MoorDynSystem`, by name; or, with a
+    MoorDyn input file (``spec["moordyn_file"]``), its coupled points (``moordyn_point`` forces) and its lines' end
+    tensions (the ``moordyn_tensions`` output)."""
+    if spec.get("moordyn_file"):
+        return moordyn_file_elements(model, spec)
     entries = [d for d in spec.get("forces", []) if d["kind"] == "catenary" and d.get("model") == "moordyn"]
     if not entries:
         return {}
@@ -97,6 +101,21 @@ def moordyn_lines(model: MultibodyModel, spec: dict[str, Any]) -> dict[str, Moor
                               int(d["segments"]), d["internal_damping"]))
     system = MoorDynSystem(lines, MoorDynSettings(**spec["moordyn"]))
     return {d["name"]: MoorDynLine(d["name"], system, i) for i, d in enumerate(entries)}
+
+
+def moordyn_file_elements(model: MultibodyModel, spec: dict[str, Any]) -> dict[str, ForceElement]:
+    """A MoorDyn input file's coupled points as force elements on their bodies and the lines' end tensions."""
+    m = spec["moordyn_file"]
+    points = [d for d in spec.get("forces", []) if d["kind"] == "moordyn_point"]
+    bodies = np.array([model.index(d["body"]) for d in points], dtype=int)
+    offsets = np.array([np.asarray(d["position"], float) - model.cg[b] for d, b in zip(points, bodies, strict=True)])
+    system = MoorDynSystem([], MoorDynSettings(**spec["moordyn"]), file_text=m["text"], bodies=bodies,
+                           offsets=offsets)
+    out: dict[str, ForceElement] = {d["name"]: MoorDynLine(d["name"], system, i) for i, d in enumerate(points)}
+    for d in spec.get("forces", []):
+        if d["kind"] == "moordyn_tensions":
+            out[d["name"]] = MoorDynTensions(d["name"], system, int(d["lines"]))
+    return out
 
 
 def force_element(model: MultibodyModel, d: dict[str, Any],
@@ -127,7 +146,8 @@ def force_element(model: MultibodyModel, d: dict[str, Any],
         b = model.index(d["body"])
         damping = np.asarray(d["damping"], float).reshape(6, 6) if d.get("damping") is not None else None
         return [LinearMooring(name, b, np.asarray(d["stiffness"], float).reshape(6, 6), damping, model.cg[b].copy())]
-    if kind == "catenary" and d.get("model", "quasi_static") == "moordyn":
+    if kind == "catenary" and d.get("model", "quasi_static") == "moordyn" or kind in ("moordyn_point",
+                                                                                          "moordyn_tensions"):
         return [dynamic_lines[name]]
     if kind == "catenary":
         b = model.index(d["body"])

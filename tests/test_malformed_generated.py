@@ -268,10 +268,10 @@ def hand_cases() -> list[Case]:  # noqa: PLR0915 - one line per case
             [s, "waves.seed"])
     add("seed -1", {"s.toml": _cyl(waves={"seed": -1})}, [s, "waves.seed"])
     for value, fragment in ((-1.0, "must be positive"), (0.0, "must be positive"), (math.nan, "finite"),
-                            (math.inf, "finite"), (4.05, "whole number of steps"), (0.05, "longer than")):
+                            (math.inf, "finite"), (0.05, "longer than")):
         add(f"duration {value}", {"s.toml": _cyl(simulation={"duration": value})}, [s, "simulation.", fragment])
     for value, fragment in (("nan", "--duration"), ("inf", "--duration"), ("-1", "--duration"), ("0", "--duration"),
-                            ("abc", "--duration"), ("4.05", "--duration 4.05"), ("1e12", "--duration")):
+                            ("abc", "--duration"), ("1e12", "--duration")):
         add(f"--duration {value}", {"s.toml": _cyl()}, [fragment] if value in ("nan", "inf", "-1", "0", "abc")
             else [s, fragment], ["run", s, "--quiet", "--duration", value, "--out", "{dir}/out.h5"])
     for value in ("-3", "0", "x"):
@@ -297,7 +297,7 @@ def hand_cases() -> list[Case]:  # noqa: PLR0915 - one line per case
             ("non-numeric", "t,eta\na,b\n", "not a number"), ("empty", "", "empty"),
             ("NaN", "t,eta\n0,0\n1,nan\n2,0\n3,0\n", "non-finite"), ("header only", "t,eta\n", "no data rows"),
             ("backwards", "t,eta\n3,0\n2,0\n1,0\n0,0\n", "increase"),
-            ("wrong header", "time,elevation\n0,0\n", "header"),
+            ("wrong header", "a,b,c\n0,0,0\n", "does not name the time column"),
             ("ragged", "t,eta\n0,0\n1\n", "values, expected"),
             ("non-uniform", "t,eta\n0,0\n1,0\n3,0\n4,0\n", "uniform")):
         add(f"elevation file: {name}", {"s.toml": _elevation("csv"), "eta.csv": text},

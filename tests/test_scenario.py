@@ -89,6 +89,10 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t.replace("extrapolation = 2 ", 'master = "monolithic"\nextrapolation = 2 ')
      + '\n[multibody]\nformulation = "index3"\n', ["'monolithic' steps only the linear multibody model"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 3 "), ["simulation.extrapolation must be 0, 1 or 2"]),
+    (lambda t: t + '\n[mooring_lines]\ncoupled_bodies = ["float"]\n',
+     ["mooring_lines.coupled_bodies is set but mooring_lines.moordyn_file is not"]),
+    (lambda t: t + '\n[mooring_lines]\nmoordyn_file = "no_such_lines.txt"\ncoupled_bodies = ["float"]\n',
+     ["mooring_lines.moordyn_file", "no_such_lines.txt does not exist"]),
     (lambda t: t.replace("extrapolation = 2 ", "extrapolation = 2.0 "),
      ["simulation.extrapolation: expected an integer"]),
     (lambda t: t.replace("extrapolation = 2 ", "tolerance = -1e-9\n"), ["simulation.tolerance must be positive"]),
@@ -100,7 +104,6 @@ def test_bundled_scenarios_load() -> None:
     (lambda t: t.replace("extrapolation = 2 ", 'interface = "linearised"\nextrapolation = 2 '),
      ["simulation.interface = 'linearised'", "extrapolation = 0"]),
     (lambda t: t.replace("extrapolation = 2 ", 'interface = "linear"\n'), ["simulation.interface"]),
-    (lambda t: t.replace("duration = 200.0", "duration = 200.05"), ["not a whole number of steps"]),
     (lambda t: t.replace("[environment]", "[simulation.adaptive]\nenabled = true\nmax_step = 0.05\n\n[environment]"),
      ["simulation.adaptive.max_step (0.05 s) is smaller than simulation.step"]),
     (lambda t: t.replace("[environment]", "[simulation.adaptive]\nenabeld = true\n\n[environment]"),

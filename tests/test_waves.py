@@ -163,7 +163,9 @@ def test_elevation_record_round_trip_csv_and_hdf5(tmp_path) -> None:
 
 @pytest.mark.parametrize("text, fragment", [
     ("t,eta\n0,0\n0.1,0.1\n0.3,0\n0.4,0.2\n", "uniformly sampled"),
-    ("time,eta\n0,0\n", "must name the columns eta, t"),
+    ("a,b,c\n0,0,0\n0.1,0,1\n", "does not name the time column"),
+    ("0 0 1\n0.1 0 1\n", "3 columns and no header row"),
+    ("t eta\n0 0\n0.1\n", "1 values, expected 2"),
     ("t,eta\n0,0\n0.1,nan\n0.2,0\n0.3,0\n", "non-finite"),
     ("t,eta\n0,0\n0.1,abc\n", "not a number"),
     ("t,eta\n", "no data rows"),

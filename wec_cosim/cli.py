@@ -73,9 +73,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_rao(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_rao_file
+    from orchestrator.scenario import apply_overrides
     from orchestrator.scene import load_scene
 
-    scenario = _scenario(args.scenario)
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     if args.form:
         scenario.rao.form = args.form
     out = _out(args.out)
@@ -89,9 +90,10 @@ def cmd_rao(args: argparse.Namespace) -> int:
 
 def cmd_steady(args: argparse.Namespace) -> int:
     from orchestrator.reference.response_files import write_steady_file
+    from orchestrator.scenario import apply_overrides
     from orchestrator.scene import load_scene
 
-    scenario = _scenario(args.scenario)
+    scenario = apply_overrides(_scenario(args.scenario), args.set or [])
     out = _out(args.out)
     scene = load_scene(scenario, progress=True)
     states = write_steady_file(scene, out, args.harmonics, args.form)
@@ -120,9 +122,15 @@ def cmd_hydro(args: argparse.Namespace) -> int:
     from orchestrator.scene import load_database
 
     scenario = _scenario(args.scenario)
+    out = _out(args.export) if args.export is not None else None
     hdb, path = load_database(scenario, refresh=args.refresh, progress=True)
     print(f"{path}: {hdb.n_bodies} bodies, {len(hdb.omega)} frequencies "
           f"{hdb.omega[0]:g}..{hdb.omega[-1]:g} rad/s, {len(hdb.headings)} headings ({hdb.source})")
+    if out is not None:
+        from hydro_fmu.bemio import write_bemio
+
+        write_bemio(hdb, out, wec_sim_groups=True)
+        print(f"{out}: the scene's database as BEMIO HDF5 with the impulse responses and state space WEC-Sim reads")
     return 0
 
 
@@ -262,6 +270,14 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _add_set(command: argparse.ArgumentParser) -> None:
+    """The ``--set KEY=VALUE`` option, the same keys for run, rao and steady."""
+    command.add_argument("--set", action="append", metavar="KEY=VALUE",
+                         help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
+                              "ptos.pto.damping=8e5, or a list as a TOML array, e.g. 'bodies.float.dofs=[\"heave\"]' "
+                              "(repeatable; recorded in the output file)")
+
+
 def parser() -> argparse.ArgumentParser:
     from . import version
 
@@ -272,10 +288,7 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("scenario")
     r.add_argument("--out", help="results file (default from the scenario)")
     r.add_argument("--duration", type=_positive_seconds, help="override simulation.duration (s)")
-    r.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a numeric or choice key, e.g. mooring_lines.model=quasi_static or "
-                        "ptos.pto.damping=8e5, or a list as a TOML array, e.g. 'bodies.float.dofs=[\"heave\"]' "
-                        "(repeatable)")
+    _add_set(r)
     r.add_argument("--in-process", action="store_true", help="call the FMU slaves directly, without fmpy")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(func=cmd_run)
@@ -283,6 +296,7 @@ def parser() -> argparse.ArgumentParser:
     a.add_argument("scenario")
     a.add_argument("--out", required=True, help="output HDF5 file")
     a.add_argument("--form", choices=("dae", "ode"), help="override rao.form")
+    _add_set(a)
     a.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     a.set_defaults(func=cmd_rao)
     y = sub.add_parser("steady", help="pseudo-spectral periodic steady state in regular waves (nonlinear forces)")
@@ -290,11 +304,15 @@ def parser() -> argparse.ArgumentParser:
     y.add_argument("--out", required=True, help="output HDF5 file")
     y.add_argument("--harmonics", type=_positive_int, help="override steady.harmonics")
     y.add_argument("--form", choices=("dae", "ode"), help="override steady.form")
+    _add_set(y)
     y.add_argument("--plot", action="store_true", help="also write PNG figures next to the file")
     y.set_defaults(func=cmd_steady)
     h = sub.add_parser("hydro", help="build or refresh the scenario's hydrodynamic database")
     h.add_argument("scenario")
     h.add_argument("--refresh", action="store_true", help="recompute even if cached")
+    h.add_argument("--export", metavar="FILE.h5",
+                   help="also write the scene's database (its bodies, about their cgs) as BEMIO HDF5 with the "
+                        "radiation and excitation impulse responses and the state-space realisation WEC-Sim reads")
     h.set_defaults(func=cmd_hydro)
     b = sub.add_parser("build-fmus", help="build the scenario's hydrodynamics and multibody FMUs")
     b.add_argument("scenario")

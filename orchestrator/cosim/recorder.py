@@ -85,6 +85,9 @@ class Recorder:
         for e in s.forces:
             if e.kind == "catenary":  # mooring lines: fairlead force on the body (world frame)
                 out[f"forces/{e.name}/force"] = [f"{e.name}.force[{i + 1}]" for i in range(3)]
+        from orchestrator.scene.moordyn_file import results_series
+
+        out.update(results_series(s))  # a MoorDyn input file: coupled point forces, every line's end tensions
         for key in ("kinetic", "potential", "dissipated", "external_work", "pto", "balance"):
             out[f"energy/{key}"] = [f"energy.{key}"]
         out["mbd/constraint_violation"] = ["mbd.constraint_violation"]

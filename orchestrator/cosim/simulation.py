@@ -8,6 +8,7 @@ import os
 import platform
 import time
 import typing
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -84,6 +85,7 @@ class RunResult:
     mean_power: dict[str, float] = field(default_factory=dict)  # W per PTO, over ``power_window``
     power_window: str = ""
     setup_time: float = math.nan  # s of wall time before the first step: scene, FMUs (build, compile), initialisation
+    radiation_check: Callable[[], str] | None = None  # the impulse-response check's summary text, when printed
 
     @property
     def real_time_factor(self) -> float:
@@ -474,6 +476,10 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         _write_failure(plan, writer, exc, start)
     result = RunResult(writer.path, wall, sim.duration, plan.controller.steps, statistics=attrs["statistics"],
                        radiation=plan.radiation, mobility=plan.mobility, setup_time=setup)
+    if plan.radiation.get("method") == "convolution" and "frequency_error" in plan.radiation:
+        scene, reported = plan.scene, plan.radiation["frequency_error"]
+        # computed when the summary is printed (0.3-8 s on constrained scenes): sweeps and benchmarks skip it
+        result.radiation_check = lambda: scene.radiation_check().text(reported)
     data = read_results(writer.path) if plan.recorder.wave_balance else None
     if data is not None:
         result.energy = energy_account(data)
@@ -490,6 +496,12 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
             result.mean_power, result.power_window = mean_pto_powers(scenario, f)
     if control:
         result.notes += control_notes(attrs.get("control_statistics"), scenario.control.fallback)
+    if scenario._duration_note:
+        result.notes.append(scenario._duration_note)
+    if scenario.waves.kind == "elevation":
+        record = plan.scene.sea().record
+        result.notes.append(f"waves: elevation record {record.source} read as {record.form} "
+                            f"({len(record.eta)} samples every {record.dt:g} s)")
     return result
 
 
@@ -612,6 +624,17 @@ def _powers_text(powers: dict[str, float], many: int = 6) -> str:
             + ", ".join(f"{name} {p / scale:.4g} {unit}" for name, p in largest))
 
 
+def _residual_share(e: dict) -> str:
+    """The residual as a share of the account's largest term: the work in when waves drive the bodies, the stored
+    energy released in a decay in still water (where the work in is zero and a share of it means nothing)."""
+    terms = {k: abs(e[k]) for k in ("work_in", "pto", "radiated", "dissipated", "stored")}
+    key = "work_in" if terms["work_in"] >= 0.5 * max(terms.values()) else max(terms, key=terms.get)
+    if not terms[key] > 0:
+        return ""
+    what = "the work in" if key == "work_in" else f"the largest term ({key.replace('_', ' ')})"
+    return f" ({100 * e['residual'] / terms[key]:.3g} % of {what})"
+
+
 def format_summary(result: RunResult) -> str:
     lines = [f"results: {result.path}"]
     if result.comparisons:
@@ -626,10 +649,12 @@ def format_summary(result: RunResult) -> str:
                 f"{100 * c.amplitude_error:>+9.3f}%{phase:>13}")
     e = result.energy
     if e:
-        scale = max(abs(e["work_in"]), 1e-300)
         lines.append("energy account (J): " + ", ".join(
             f"{k.replace('_', ' ')} {e[k]:.6g}" for k in ("work_in", "pto", "radiated", "dissipated", "stored"))
-            + f"; residual {e['residual']:.3g} ({100 * e['residual'] / scale:.3g} % of the work in)")
+            + f"; residual {e['residual']:.3g} J" + _residual_share(e))
+        if result.statistics.get("mooring_lines") == "moordyn":
+            lines.append("  (the MoorDyn lines' work on the bodies is not a term of this account: the residual "
+                         "includes it)")
     st = result.statistics
     if "mean_iterations" in st:
         lines.append(f"{st['master']}: {st['mean_iterations']:.2f} evaluations per step on average, "
@@ -641,9 +666,11 @@ def format_summary(result: RunResult) -> str:
     if r.get("method") == "state_space":
         lines.append(f"radiation: state space of order {r['order']}, impulse-response fit error {r['fit_error']:.3g}, "
                      f"A and B against the database {r['frequency_error']:.3g}")
+    elif r.get("method") == "convolution" and result.radiation_check is not None:
+        lines += ["radiation: convolution", result.radiation_check()]
     elif r:
         lines.append(f"radiation: convolution, A and B of the truncated impulse response against the database "
-                     f"{r['frequency_error']:.3g}")
+                     f"{r['frequency_error']:.3g} (relative 2-norm, no unit)")
     if result.mean_power and not result.comparisons:  # (compared with the exact answer: in the table above)
         lines.append(f"mean PTO power ({result.power_window}): " + _powers_text(result.mean_power))
     lines += result.notes

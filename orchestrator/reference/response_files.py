@@ -71,6 +71,7 @@ def write_rao_file(scene: Scene, out: Path) -> list[frequency_domain.FrequencyRe
         f.attrs["form"] = responses[0].form
         f.attrs["scenario"] = s.text
         f.attrs["scenario_file"] = str(s.file)
+        f.attrs["overrides"] = "; ".join(s._overrides)  # `--set` items, as `wec-cosim rao/steady --set` gave them
     return responses
 
 
@@ -143,6 +144,7 @@ def write_steady_file(scene: Scene, out: Path, harmonics: int | None = None, for
     with h5py.File(out, "w") as f:
         f.attrs["scenario"] = s.text
         f.attrs["scenario_file"] = str(s.file)
+        f.attrs["overrides"] = "; ".join(s._overrides)  # `--set` items, as `wec-cosim rao/steady --set` gave them
         f.attrs["form"] = form
         f.attrs["harmonics"] = n
         for i, period in enumerate(periods):

@@ -76,16 +76,27 @@ def check_scenario(s: Scenario) -> None:
     input_checks.check_files(s)
 
 
+def _whole_steps(s: Scenario) -> None:
+    """A duration that is not a whole number of steps is rounded to the nearest whole number of steps (at least
+    one): the radiation memory and the masters run on whole steps, and a shortened last step would leave that grid.
+    The scenario keeps a note (``_duration_note``), which the run's summary prints."""
+    sim = s.simulation
+    n = sim.duration / sim.step
+    whole = max(1, round(n))
+    if abs(n - whole) > 1e-6 * max(1.0, n):
+        requested = sim.duration
+        sim.duration = whole * sim.step
+        s._duration_note = (
+            f"simulation.duration = {requested:g} s is not a whole number of {sim.step:g} s steps: the run covers "
+            f"{whole} steps, {sim.duration:.10g} s (the duration rounded to the nearest whole step)")
+
+
 def check_simulation(s: Scenario) -> None:
     f = str(s.file)
     sim = s.simulation
     if sim.step > sim.duration:
         raise ScenarioError(f"{f}: simulation.step ({sim.step} s) is longer than the duration ({sim.duration} s)")
-    n = sim.duration / sim.step
-    if abs(n - round(n)) > 1e-6 * max(1.0, n):
-        raise ScenarioError(
-            f"{f}: simulation.duration ({sim.duration} s) is not a whole number of steps of {sim.step} s; "
-            "change the duration or the step")
+    _whole_steps(s)
     if sim.added_mass == "interface" and not sim.iterative:
         raise ScenarioError(
             f"{f}: simulation.added_mass = 'interface' solves the added-mass force within each step and needs an "
@@ -170,9 +181,8 @@ def _check_waves(s: Scenario) -> None:
         path = s.resolve(w.elevation_file)
         if not path.is_file():
             raise ScenarioError(f"{f}: waves.elevation_file: file {path} does not exist")
-        if path.suffix.lower() not in (".csv", ".txt", ".h5", ".hdf5"):
-            raise ScenarioError(f"{f}: waves.elevation_file: {path.name} is neither CSV (.csv, .txt) nor HDF5 "
-                                "(.h5, .hdf5)")
+        # Any name: .h5/.hdf5 is HDF5, .mat WEC-Sim's MATLAB file, anything else a text table (the reader says which
+        # form it found, or what is wrong with the file).
     if w.spreading_s > 0 and w.kind != "irregular":
         raise ScenarioError(f"{f}: waves.spreading_s applies to irregular seas only")
     if w.spreading_s > 0 and s.hydro.excitation_method == "convolution":
@@ -320,6 +330,9 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
 def _check_mooring_lines(s: Scenario, f: str) -> None:
     """MoorDyn lines: diameters, one sea bed, the axial Courant limit of MoorDyn's step."""
     m = s.mooring_lines
+    if m.moordyn_file or m.coupled_bodies:
+        _check_moordyn_file(s, f)
+        return
     if m.model != "moordyn":
         return
     lines = [(i, e) for i, e in enumerate(s.forces) if e.kind == "catenary"]
@@ -350,6 +363,43 @@ def inertia_tensor(values: list[float]) -> list[list[float]]:
     Iyz], the products being the tensor's off-diagonal entries."""
     ixx, iyy, izz, ixy, ixz, iyz = list(values) + [0.0] * (6 - len(values))
     return [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]
+
+
+def _check_moordyn_file(s: Scenario, f: str) -> None:
+    """A MoorDyn input file: readable and usable, one scenario body per Coupled point, rho and g as the scenario's."""
+    from mbd_fmu.moordyn_files import MoorDynFileError, read_moordyn_file
+
+    m = s.mooring_lines
+    if not m.moordyn_file:
+        raise ScenarioError(f"{f}: mooring_lines.coupled_bodies is set but mooring_lines.moordyn_file is not; name the "
+                            "MoorDyn input file")
+    if any(e.kind == "catenary" for e in s.forces):
+        raise ScenarioError(f"{f}: mooring_lines.moordyn_file and forces of kind 'catenary' together: put every line "
+                            "in the MoorDyn file, or remove moordyn_file to use the catenary lines")
+    try:
+        md = read_moordyn_file(s.resolve(m.moordyn_file))
+    except MoorDynFileError as exc:
+        raise ScenarioError(f"{f}: mooring_lines.moordyn_file: {exc}") from None
+    points = ", ".join(f"{pid} at ({', '.join(f'{v:g}' for v in p)})" for pid, p in md.coupled)
+    if len(m.coupled_bodies) != len(md.coupled):
+        raise ScenarioError(
+            f"{f}: mooring_lines.coupled_bodies names {len(m.coupled_bodies)} bodies but {md.path} has "
+            f"{len(md.coupled)} Coupled points ({points}); give one body per point, in the order of their IDs, e.g. "
+            f"coupled_bodies = {[m.coupled_bodies[0] if m.coupled_bodies else s.bodies[0].name] * len(md.coupled)}")
+    names = [b.name for b in s.bodies]
+    for (pid, _), body in zip(md.coupled, m.coupled_bodies, strict=True):
+        if body not in names:
+            raise ScenarioError(f"{f}: mooring_lines.coupled_bodies: no body {body!r} for Coupled point {pid} of "
+                                f"{md.path} (bodies: {', '.join(names)})")
+    for key, value, name in (("wtrdnsty", s.environment.rho, "environment.rho"), ("g", s.environment.g,
+                                                                                 "environment.g")):
+        if key in md.options and not math.isclose(float(md.options[key]), value, rel_tol=1e-6):
+            raise ScenarioError(
+                f"{f}: {md.path} sets {key} = {md.options[key]} but {name} = {value:g}; make them equal (the run "
+                "uses the scenario's value for both the bodies and the lines)")
+    if s.formulation == "linear":
+        raise ScenarioError(f"{f}: mooring_lines.moordyn_file needs a nonlinear multibody formulation; set "
+                            "multibody.formulation = 'index3'")
 
 
 def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:

@@ -111,7 +111,8 @@ MOORING_MODELS = ("quasi_static", "moordyn")
 
 @dataclass
 class MooringLinesSection:
-    """How the scene's `catenary` lines are computed (see docs/scenarios.md, RM3)."""
+    """How the scene's mooring lines are computed: its `catenary` forces, or a MoorDyn input file (docs/scenarios.md,
+    RM3)."""
 
     model: str = option(
         "quasi_static", choices=MOORING_MODELS,
@@ -133,6 +134,19 @@ class MooringLinesSection:
                             doc="longest dynamic relaxation of MoorDyn's initial line shapes")
     ic_tolerance: float = option(1e-3, unit="m/s^2", check=positive,
                                  doc="the relaxation stops when the largest node acceleration is below this")
+    moordyn_file: str = option(
+        "", doc="a MoorDyn v2 input file used as it is (relative to the scenario file): its lines, points (anchors, "
+                "buoys, clump weights, line-to-line joints), rods, sea bed and solver options (dtM, kBot, cBot, the "
+                "initial-condition settings) all from the file, rho and g from [environment]; its Coupled points "
+                "move with the bodies named in `coupled_bodies`. MoorDyn's own output files are off: the results "
+                "file records each coupled point's force (`/mooring/point<ID>/force`) and the tension at both ends "
+                "of every line (`/mooring/line<ID>/tension`). With model = `quasi_static` (and in the frequency "
+                "domain) the lines are their linearised stiffness from MoorDyn's static solves of the file. The "
+                "keys above (time_step ... ic_tolerance) apply to `catenary` forces only")
+    coupled_bodies: list[str] = option(
+        factory=list, doc="with `moordyn_file`: the body each Coupled point of the file is attached to, in the "
+                          "order of the points' IDs (their positions in the file are world coordinates at "
+                          "equilibrium)")
 
 
 @dataclass

@@ -39,7 +39,9 @@ class AdaptiveSection:
 class SimulationSection:
     """Time-domain co-simulation settings."""
 
-    duration: float = option(unit="s", doc="simulated time (a whole number of steps)", check=positive)
+    duration: float = option(unit="s", check=positive,
+                             doc="simulated time; a duration that is not a whole number of steps is rounded to the "
+                                 "nearest whole number of steps, and the run's summary says so")
     step: float = option(unit="s", doc="macro (communication) step of the master; with `[simulation.adaptive]` the "
                                        "smallest step and the radiation grid", check=positive)
     master: str = option(

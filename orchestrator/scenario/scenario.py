@@ -44,6 +44,7 @@ class Scenario:
     _file: Path = field(default=Path("scenario.toml"), init=False, repr=False)
     _text: str = field(default="", init=False, repr=False)
     _overrides: list[str] = field(default_factory=list, init=False, repr=False)  # `wec-cosim run --set` items
+    _duration_note: str = field(default="", init=False, repr=False)  # duration rounded to whole steps (checks.py)
 
     @property
     def file(self) -> Path:
@@ -75,7 +76,7 @@ class Scenario:
         f = self.multibody.formulation
         if f != "auto":
             return f
-        simple = (not self.joints and not self.forces and not self.drivers
+        simple = (not self.joints and not self.forces and not self.drivers and not self.mooring_lines.moordyn_file
                   and not any(b.point_mass for b in self.bodies)
                   and all(not (p.joint or p.body2 or p.point or p.nonlinear) for p in self.ptos))
         return "linear" if simple else "index3"

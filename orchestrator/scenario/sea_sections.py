@@ -61,8 +61,12 @@ class WavesSection:
     spreading_s: float = option(0.0, check=non_negative,
                                 doc="cos-2s directional spreading exponent; 0 = unidirectional")
     n_directions: int = option(1, check=positive, doc="number of directions of a spread sea")
-    elevation_file: str = option("", doc="elevation record at the world origin: CSV with a header `t,eta` or "
-                                         "HDF5 with datasets `t`, `eta`, relative to the scenario file")
+    elevation_file: str = option("", doc="elevation record at the world origin, relative to the scenario file: a "
+                                         "text table of time (s) and elevation (m) in two columns (whitespace, "
+                                         "comma or semicolon; `%`/`#` comment lines and a header row allowed; more "
+                                         "columns need a header naming `t` and `eta`), WEC-Sim's etaImport `.mat` "
+                                         "file (one N x 2 array [time, elevation]) or HDF5 with datasets `t`, "
+                                         "`eta`; the form found is named in the run's summary")
     time_dataset: str = option("t", doc="HDF5 elevation file: dataset of the times")
     elevation_dataset: str = option("eta", doc="HDF5 elevation file: dataset of the elevation")
 

@@ -64,6 +64,8 @@ def load_database(scenario: Scenario, *, refresh: bool = False, log=print,
             log(f"computed hydrodynamic database {path} in {shown.elapsed:.0f} s" if computed
                 else f"cached hydrodynamic database {path}")
     sub = _match_bodies(scenario, hdb)
+    sub = _about_centres_of_gravity(scenario, sub, log)
+    _check_parts(scenario, sub)
     _check_coefficients(scenario, sub)
     if scenario.hydro.added_mass_inf == "ogilvie":
         sub = _ogilvie(scenario, sub, log)
@@ -173,12 +175,52 @@ def _match_bodies(scenario: Scenario, hdb: HydroDatabase) -> HydroDatabase:
             raise ScenarioError(
                 f"{scenario.file}: environment.{key} = {getattr(env, key)} but the database "
                 f"{hdb.source} was computed with {key} = {getattr(hdb, key)}")
-    for i, b in enumerate(scenario.hydro_bodies):
-        if np.linalg.norm(sub.cg[i] - np.asarray(b.cg)) > 1e-3:
-            raise ScenarioError(
-                f"{scenario.file}: body {b.name!r} has cg {list(b.cg)} but its database {hdb.source} is "
-                f"about {sub.cg[i].tolist()}; forces would be about the wrong point")
+    depth, wanted = float(hdb.water_depth), float(env.water_depth)
+    if not (depth == wanted or math.isclose(depth, wanted, rel_tol=1e-6)):
+        raise ScenarioError(
+            f"{scenario.file}: environment.water_depth = {wanted:g} m but the database {hdb.source} was computed for "
+            f"a water depth of {depth:g} m: waves and coefficients would disagree. Set environment.water_depth = "
+            f"{_toml_number(depth)} to use this database, or give a database computed for {wanted:g} m")
     return sub
+
+
+def _toml_number(value: float) -> str:
+    return "inf" if math.isinf(value) else f"{value:g}"
+
+
+def _about_centres_of_gravity(scenario: Scenario, hdb: HydroDatabase, log) -> HydroDatabase:
+    """The database with its coefficients about the scenario's centres of gravity: a BEMIO file's coefficients are
+    about each body's reference point (its ``cg`` in the file); where a body's cg differs from it by more than 1 mm
+    they are moved by the rigid-body transformation (:mod:`hydro_fmu.reference_point`), and ``log`` says so."""
+    from hydro_fmu.reference_point import moved_to
+
+    cgs = np.array([b.cg for b in scenario.hydro_bodies], dtype=float)
+    far = np.linalg.norm(hdb.cg - cgs, axis=1) > 1e-3
+    if not far.any():
+        return hdb
+    if log is not None:
+        for i in np.flatnonzero(far):
+            log(f"body {hdb.body_names[i]!r}: the database {hdb.source} is about {_point(hdb.cg[i])}, the body's cg is "
+                f"{_point(cgs[i])}: its coefficients are moved to the cg (rigid-body transformation of A, B, the "
+                "excitation and the hydrostatic stiffness)")
+    return moved_to(hdb, np.where(far[:, None], cgs, hdb.cg))
+
+
+def _point(p: np.ndarray) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in p) + ") m"
+
+
+def _check_parts(scenario: Scenario, hdb: HydroDatabase) -> None:
+    """A scene that needs the diffraction part of the excitation (hydro.nonlinear_froude_krylov) refuses a database
+    without it, naming why it is missing."""
+    from hydro_fmu.bemio import EXCITATION_PARTS
+
+    if scenario.hydro.nonlinear_froude_krylov and hdb.diffraction is None:
+        why = hdb.extra.get(EXCITATION_PARTS) or f"the database {hdb.source} has no Froude-Krylov/diffraction parts"
+        raise ScenarioError(
+            f"{scenario.file}: hydro.nonlinear_froude_krylov = true needs the diffraction (scattering) part of the "
+            f"excitation, but {why}. Set hydro.nonlinear_froude_krylov = false, or give a database with both parts "
+            "(leave hydro.database empty to compute one with Capytaine from the bodies' geometry)")
 
 
 def sorted_dofs(b: BodySection) -> list[str]:

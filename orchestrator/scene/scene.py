@@ -180,6 +180,59 @@ class Scene:
                           s.hydro.irf_duration, self.switches(), self.hydro_options(),
                           record=sea.record)
 
+    def radiation_check(self, dt: float | None = None):
+        """How well the convolution kernel of the hydro model reproduces the database, per degree of freedom
+        (:func:`hydro_fmu.radiation_check.impedance_check`), with each DOF's structural inertia."""
+        from hydro_fmu.hdb import DOF_NAMES
+        from hydro_fmu.radiation_check import impedance_check
+
+        s, index = self.scenario, self.hydro_index()
+        block = np.ix_(index, index)
+        inertia = self._apparent_inertia() - np.diag(self.hdb.added_mass_inf[block])
+        correction = self.tail_correction()
+        if correction is not None:
+            correction = (correction[0], np.asarray(correction[1])[(slice(None),) + block])
+        h = s.hydro
+        return impedance_check(self.hdb.omega, self.hdb.added_mass[(slice(None),) + block],
+                               self.hdb.radiation_damping[(slice(None),) + block], self.hdb.added_mass_inf[block],
+                               np.array(inertia), [f"{name} {DOF_NAMES[d]}" for name, d in self.hydro_coordinates],
+                               dt or s.simulation.step, h.irf_duration, d_omega=h.irf_d_omega,
+                               tail_exponent=h.damping_tail, tail_correction=correction, band=self._sea_band())
+
+    def _apparent_inertia(self) -> np.ndarray:
+        """The inertia a force on each hydrodynamic coordinate meets (kg, kg m^2), A_inf included:
+        1 / [P (P^T M P)^-1 P^T]_ii with M the mass matrix and P the null space of the joints' constraints (P = I
+        without joints); a body tied to others by joints moves them too."""
+        idx = self.hydro_index()
+        a_inf = self.hdb.added_mass_inf[np.ix_(idx, idx)]
+        if self.scenario.formulation == "linear":
+            bodies = {b.name: b for b in self.scenario.bodies}
+            mass = np.diag([self.body_mass(bodies[n]) if d < 3 else self.inertia_matrix(bodies[n])[d - 3, d - 3]
+                            for n, d in self.hydro_coordinates]) + a_inf
+            return 1.0 / np.diag(np.linalg.inv(mass))
+        from mbd_fmu.linearize import linearize
+        from mbd_fmu.spec import build_model
+
+        model, _ = build_model(self._mbd_spec_at_reference(), a_inf)
+        lin = linearize(model)
+        p = lin.null_space
+        compliance = p @ np.linalg.solve(p.T @ lin.mass @ p, p.T)
+        rows = [lin.coordinates.index(c) for c in self.hydro_coordinates]
+        with np.errstate(divide="ignore"):  # a coordinate the joints hold still to first order: infinite inertia
+            return 1.0 / np.abs(np.diag(compliance)[rows])
+
+    def _sea_band(self) -> tuple[float, float] | None:
+        """The frequencies of the sea's components that carry 99 % of its variance (rad/s); None in still water."""
+        waves = self.waves()
+        if not len(waves.omega):
+            return None
+        energy = np.asarray(waves.amplitude, dtype=float) ** 2
+        order = np.argsort(waves.omega)
+        share = np.cumsum(energy[order]) / energy.sum()
+        lo = waves.omega[order][np.searchsorted(share, 0.005)]
+        hi = waves.omega[order][min(len(order) - 1, np.searchsorted(share, 0.995))]
+        return float(lo), float(hi)
+
     def hydro_index(self) -> np.ndarray:
         """Index of each hydro coordinate in the database's 6N numbering."""
         return np.array([6 * self.hydro_bodies.index(b) + d for b, d in self.hydro_coordinates], dtype=int)
@@ -317,7 +370,14 @@ class Scene:
 
         first_unit = {name: (JOINT_COORDINATE_UNITS[kind] or [("", "")])[0][0] for name, kind in kinds.items()}
         spec["forces"] = [dict(self._force_spec(e), rotational=first_unit.get(e.joint) == "rad") for e in s.forces]
-        if dynamic_lines and s.mooring_lines.model == "moordyn":
+        if s.mooring_lines.moordyn_file:
+            from .moordyn_file import dynamic_spec, linearised_spec
+
+            if dynamic_lines and s.mooring_lines.model == "moordyn":
+                dynamic_spec(s, spec)
+            else:
+                linearised_spec(spec, self.moordyn_linearised())
+        elif dynamic_lines and s.mooring_lines.model == "moordyn":
             self._moordyn_spec(spec)
         spec["drivers"] = [self._driver_spec(d) for d in s.drivers]
         joints = {j.name: j for j in s.joints}
@@ -347,6 +407,15 @@ class Scene:
             d["stiffness"] = matrix(e.stiffness_matrix) or [0.0] * 36
             d["damping"] = matrix(e.damping_matrix)
         return d
+
+    def moordyn_linearised(self) -> dict:
+        """The MoorDyn input file's lines as a quasi-static stiffness and mean wrench per coupled body (computed once;
+        :func:`orchestrator.scene.moordyn_file.linearised`)."""
+        if not hasattr(self, "_moordyn_linearised"):
+            from .moordyn_file import linearised
+
+            self._moordyn_linearised = linearised(self.scenario)
+        return self._moordyn_linearised
 
     def _moordyn_spec(self, spec: dict) -> None:
         """Mark the catenary lines for MoorDyn and add its solver options."""
