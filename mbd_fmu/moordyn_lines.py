@@ -414,8 +414,9 @@ class MoorDynSystem:
             start = np.asarray(state.get("start_fairleads", np.zeros((len(lines), 3))), dtype=float).reshape(-1, 3)
         except (TypeError, ValueError, KeyError) as exc:
             raise MoorDynError(f"the saved mooring-line state is not one of these lines ({exc})") from None
+        own_file = self.__dict__.get("file_text", "")
         if self.__dict__.get("lines") is not None and not (
-                _same(lines, self.lines) and settings == self.settings and state["file_text"] == self.__dict__.get("file_text", "")):
+                _same(lines, self.lines) and settings == self.settings and state["file_text"] == own_file):
             raise MoorDynError("the saved mooring-line state belongs to other lines, another MoorDyn input file "
                                "or other MoorDyn settings than this model's")
         state["lines"], state["settings"], state["start_fairleads"] = lines, settings, start
