@@ -16,9 +16,9 @@ from .matrices import assemble
 from .progress import SweepProgress
 from .scheduler import (
     SchedulerLost,
+    ctrl_c_interrupts,
     dask_client,
     deaf_to_ctrl_c,
-    first_ctrl_c_only,
     results_in_process,
     results_on_dask,
 )
@@ -60,7 +60,7 @@ def run_sweep(scenario: Scenario, out: str | Path, *, scheduler: str | None = No
     plan = plan_sweep(scenario)
     store = SweepStore.open(out, plan)
     try:  # from here on an interruption leaves the file whole, with what finished, status "interrupted"
-        with first_ctrl_c_only():
+        with ctrl_c_interrupts():
             return _run(plan, store, scenario, client, in_process, scheduler, workers, retry_failed, progress, log)
     except KeyboardInterrupt:
         done = _stop(store, "interrupted")

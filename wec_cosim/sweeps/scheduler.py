@@ -71,11 +71,13 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
 
 
 @contextmanager
-def first_ctrl_c_only() -> Iterator[None]:
-    """Inside the block the first SIGINT raises KeyboardInterrupt and makes the process ignore the next ones
-    until the block is left: the shutdown of a big sweep (thousands of futures released, the cluster closed)
-    takes seconds, and a second Ctrl-C in it interrupted Dask's own clean-up (a traceback from a
-    ``Future.__del__``). Outside the main thread nothing changes."""
+def ctrl_c_interrupts() -> Iterator[None]:
+    """Inside the block every SIGINT raises KeyboardInterrupt in the main thread, also where Python's own handler
+    would not reach the sweep's code. The shutdown that follows (thousands of futures released, the cluster
+    closed, the file recorded) runs in :func:`deaf_to_ctrl_c` blocks, so a second Ctrl-C does not cut it. The
+    process does not start ignoring SIGINT at the first press: an interrupt raised inside a garbage-collector
+    callback or a ``__del__`` (Dask has both) is swallowed by Python ("Exception ignored in ..."), and a sweep that
+    then ignored every later Ctrl-C ran on. Outside the main thread nothing changes."""
     import signal
     import threading
 
@@ -83,11 +85,10 @@ def first_ctrl_c_only() -> Iterator[None]:
         yield
         return
 
-    def first(signum: int, frame: object) -> None:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    def interrupt(signum: int, frame: object) -> None:
         raise KeyboardInterrupt
 
-    old = signal.signal(signal.SIGINT, first)
+    old = signal.signal(signal.SIGINT, interrupt)
     try:
         yield
     finally:
