@@ -129,8 +129,7 @@ def main() -> None:
         for _ in range(args.repeat):
             for i, row in enumerate(rows):
                 hydro = row[-1]
-                factory = (lambda hy=hydro: type(hy.radiation)(hy.kernel, hy.dt)) if row[0] == "convolution" else (
-                    lambda hy=hydro: type(hy.radiation)(hy.state_space))
+                factory = hydro.reference_memory  # the Python memory (the runtime's reference), new at each call
                 memory_times[i].append(time_memory(factory, coordinates, args.steps, h))
                 _, _, total = run_decay(scene, row[0], row[1] or 0.02, h, args.steps * h)
                 model_times[i].append(total / args.steps)

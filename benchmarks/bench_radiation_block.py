@@ -1,12 +1,13 @@
-"""Points per pass over the radiation weights (RadiationMemory.block_points, hydro_fmu.kernels.blocked_memory):
-the hydro FMU's per-point cost in a real co-simulation loop for several block sizes, side by side in one process.
+"""Points per pass over the radiation weights (the runtime's ``radiation.block_points``, native/src/hydro/
+radiation_convolution.c): the hydro FMU's per-point cost in a real co-simulation loop for several block sizes, side
+by side in one process.
 
 The hinge barge runs in process (the FMUs' slave classes called directly, so the block size can be set for each
 run; the multibody FMU works between two points and evicts the weights from cache, as through fmpy). Each block
 size is run in turn, ``--repeats`` times alternating; reported per block size: the hydro get_reals CPU time per
-macro step (the call that runs the compiled pass) and the compiled pass alone (wall), split into the points that
-start a block (one pass over the weights) and the others. B = 1 is one pass over the weights at every point
-(the direct sum's memory traffic).
+macro step (the call that runs the runtime's pass). B = 1 is one pass over the weights at every point (the direct
+sum's memory traffic). The record in benchmarks/results/hydro_block.txt was measured with the numba pass that the
+runtime replaced (same blocks; it also timed the pass alone, split into block starts and the other points).
 
     python benchmarks/bench_radiation_block.py --out benchmarks/results/hydro_block.txt
 """
@@ -25,26 +26,16 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
-def run(scenario, blocks: int) -> tuple[float, float, float, float]:  # noqa: ANN001
-    """One in-process run with ``blocks`` points per pass: (get_reals CPU per step, pass mean, pass median at
-    block starts, pass median elsewhere), microseconds."""
-    import hydro_fmu.model as model
-    from hydro_fmu.radiation import RadiationMemory
+def run(scenario, blocks: int) -> float:  # noqa: ANN001
+    """One in-process run with ``blocks`` points per pass: get_reals CPU per step, microseconds."""
+    import hydro_fmu.runtime_input as runtime_input
     from orchestrator.cosim import simulation
     from orchestrator.fmi import components
 
-    RadiationMemory.block_points = blocks
-    passes: list[tuple[float, bool]] = []
+    saved = runtime_input.BLOCK_POINTS
+    runtime_input.BLOCK_POINTS = blocks
     cpu = [0.0]
-    compiled, get_reals = model.point_outputs, components.InProcessComponent.get_reals
-
-    def timed_pass(*a):  # noqa: ANN002, ANN202
-        block = a[11]
-        before = (int(block[0]), int(block[1]))
-        t0 = time.perf_counter()
-        out = compiled(*a)
-        passes.append((time.perf_counter() - t0, (int(block[0]), int(block[1])) != before))
-        return out
+    get_reals = components.InProcessComponent.get_reals
 
     def timed_get(self, *a):  # noqa: ANN001, ANN002, ANN202
         c0 = time.thread_time()
@@ -54,17 +45,15 @@ def run(scenario, blocks: int) -> tuple[float, float, float, float]:  # noqa: AN
             if self.name == "hydro":
                 cpu[0] += time.thread_time() - c0
 
-    model.point_outputs, components.InProcessComponent.get_reals = timed_pass, timed_get
+    components.InProcessComponent.get_reals = timed_get
     try:
         with tempfile.TemporaryDirectory() as tmp:
             simulation.run_scenario(scenario, Path(tmp) / "w.h5", progress=False, log=None, in_process=True)
     finally:
-        model.point_outputs, components.InProcessComponent.get_reals = compiled, get_reals
+        components.InProcessComponent.get_reals = get_reals
+        runtime_input.BLOCK_POINTS = saved
     steps = round(scenario.simulation.duration / scenario.simulation.step)
-    seconds = np.array([s for s, _ in passes])
-    start = np.array([b for _, b in passes])
-    return (cpu[0] / steps * 1e6, seconds.mean() * 1e6, float(np.median(seconds[start])) * 1e6 if start.any()
-            else float("nan"), float(np.median(seconds[~start])) * 1e6 if (~start).any() else float("nan"))
+    return cpu[0] / steps * 1e6
 
 
 def main() -> None:
@@ -82,21 +71,18 @@ def main() -> None:
     scenario.simulation.duration = args.duration
     blocks = [int(b) for b in args.blocks.split(",")]
     lines = report_header("bench_radiation_block.py")
-    run(scenario, blocks[0])  # builds or loads the FMUs, compiles or loads the kernels
-    results: dict[int, list[tuple[float, ...]]] = defaultdict(list)
+    run(scenario, blocks[0])  # builds or loads the FMUs, compiles or loads the multibody kernels
+    results: dict[int, list[float]] = defaultdict(list)
     for _ in range(args.repeats):
         for b in blocks:
             results[b].append(run(scenario, b))
     lines += [f"# hinge barge in process, {args.duration:g} s, {args.repeats} alternating runs per block size; "
               "microseconds per macro step (min / median over the runs)",
-              "# get cpu: hydro get_reals, CPU time of the calling thread; pass: the compiled pass (wall), mean over "
-              "the points, median at the points that start a block and at the others", "",
-              f"{'B':>4}{'get cpu min':>13}{'median':>9}{'pass mean min':>15}{'median':>9}{'block start':>13}"
-              f"{'others':>9}"]
+              "# get cpu: hydro get_reals, CPU time of the calling thread", "",
+              f"{'B':>4}{'get cpu min':>13}{'median':>9}"]
     for b in blocks:
         r = np.array(results[b])
-        lines.append(f"{b:>4}{r[:, 0].min():13.1f}{np.median(r[:, 0]):9.1f}{r[:, 1].min():15.1f}"
-                     f"{np.median(r[:, 1]):9.1f}{np.median(r[:, 2]):13.1f}{np.median(r[:, 3]):9.1f}")
+        lines.append(f"{b:>4}{r.min():13.1f}{np.median(r):9.1f}")
     lines.append(f"# load average at the end {load()}")
     write_report(lines, args.out)
 

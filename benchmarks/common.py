@@ -27,6 +27,33 @@ def revision_tree(ref: str, tmp: Path, paths: list[str] | None = None) -> Path:
     return tmp
 
 
+def run_with_current_library(ref: str, script: str, args: list[str]) -> int:
+    """Run ``benchmarks/<script>`` as it was at git revision ``ref`` (its packages, scenarios and benchmarks
+    extracted into a temporary folder) with the current compiled runtime (``fmu_base/_wecrt.so``) beside that
+    revision's ``fmu_base``, and return its exit status. For side-by-side checks of the runtime against the Python
+    path it replaced: the revision's binding calls only functions the library still has, with the same signatures.
+    An ``--out`` path is made absolute first (the report lands where the caller means it)."""
+    import shutil
+    import tempfile
+
+    from fmu_base import native
+
+    args = list(args)
+    if "--out" in args and args.index("--out") + 1 < len(args):
+        i = args.index("--out") + 1
+        args[i] = str(Path(args[i]).resolve())
+    library = native.library_path()
+    if library is None:
+        native.library()  # raises with the message saying how to build it
+    paths = ["fmu_base", "hydro_fmu", "mbd_fmu", "plain_mbd_fmu", "orchestrator", "sweeps", "benchreport",
+             "benchmarks", "scenarios"]
+    with tempfile.TemporaryDirectory(prefix="wec_revision_") as tmp:
+        tree = revision_tree(ref, Path(tmp), paths)
+        shutil.copy(library, tree / "fmu_base" / library.name)
+        return subprocess.run([sys.executable, str(tree / "benchmarks" / script), *args],
+                              cwd=tree / "benchmarks").returncode
+
+
 def report_header(script: str, versions: str = "") -> list[str]:
     """The first lines of a benchmark record: the command that produced it, then the machine, Python, the
     ``versions`` given, the git commit and the load at the start."""

@@ -7,7 +7,10 @@ Plain Python physics (importable and testable without FMI) plus the thin FMU wra
   :mod:`hydro_fmu.bem` - Capytaine front end with an on-disk cache;
 * :mod:`hydro_fmu.waves` - incident wave components and the ramp;
 * :mod:`hydro_fmu.excitation`, :mod:`hydro_fmu.radiation`, :mod:`hydro_fmu.hydrostatics` - forces;
-* :mod:`hydro_fmu.model` - the forces of one scene, as the FMU computes them.
+* :mod:`hydro_fmu.model` - the forces of one scene, as the FMU computes them: the preparation, then the compiled
+  runtime (:mod:`hydro_fmu.runtime_input` its input, :mod:`hydro_fmu.runtime` its binding; ``native/``);
+* :mod:`hydro_fmu.native_fmu` - the native FMI 2.0 / 3.0 hydro FMU of a prepared model (the runtime behind
+  ``native/fmi``, no Python inside).
 """
 
 from .hdb import DOF_NAMES, HydroDatabase, HydroDatabaseError

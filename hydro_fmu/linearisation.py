@@ -144,25 +144,3 @@ class AffineForce:
     rate: np.ndarray
     dfdx: np.ndarray
     dfdv: np.ndarray
-
-
-class MemoryRate:
-    """Backward difference of the memory's motion-independent part between communication points.
-
-    ``update(t, value)`` is called whenever the affine model is evaluated: a new time shifts the
-    pair, the same time (several reads at one point) replaces the newest value. The rate is 0
-    until two different times were seen (the memory is zero at rest anyway).
-    """
-
-    def __init__(self) -> None:
-        self.previous: tuple[float, np.ndarray] | None = None
-        self.latest: tuple[float, np.ndarray] | None = None
-
-    def update(self, t: float, value: np.ndarray) -> np.ndarray:
-        if self.latest is not None and t > self.latest[0] + 1e-12 * max(1.0, abs(t)):
-            self.previous = self.latest
-        self.latest = (t, value.copy())
-        if self.previous is None:
-            return np.zeros_like(value)
-        (t0, v0), (t1, v1) = self.previous, self.latest
-        return (v1 - v0) / (t1 - t0)

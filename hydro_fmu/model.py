@@ -16,6 +16,13 @@ Time stepping: inputs (x, v) are samples at communication points; the force at a
 inputs at that point (direct feedthrough). :meth:`HydroModel.advance` commits the velocity of the
 current point to the radiation memory and moves on by the step: a whole number of convolution
 steps ``dt`` for the convolution, any step for the state space.
+
+One implementation: the constructor does the offline preparation (database selection, excitation
+coefficients, impulse responses, state-space fit, meshes, checks) and hands it to the compiled runtime
+(:mod:`hydro_fmu.runtime`, ``native/src/hydro``), which does every step-time computation: forces,
+elevation, powers and work, the linearised interface, the memories and their state. The Python
+component objects kept here (:attr:`HydroModel.excitation`, :meth:`HydroModel.reference_memory`, the
+pressure models...) are the preparation and the independent references the runtime is tested against.
 """
 
 from __future__ import annotations
@@ -29,21 +36,16 @@ from .drag import ViscousCoefficients, ViscousForce
 from .excitation import ExcitationConvolution, ExcitationForce
 from .hdb import DOF_NAMES, HydroDatabase
 from .hydrostatics import LinearHydrostatics
-from .kernels import COMPILED, RADIATION_CONVOLUTION, RADIATION_GIVEN, RADIATION_NONE, point_outputs
-from .linearisation import AffineForce, CouplingPattern, MemoryRate
+from .linearisation import AffineForce, CouplingPattern
 from .meshes import SurfaceMesh
 from .nonlinear_hydrostatics import BodyPressureModel
 from .radiation import RadiationMemory, damping_tail, impulse_response, irf_diagnostics, resample_damping
+from .runtime import HydroRuntime
+from .runtime_input import runtime_input
 from .state_space import DEFAULT_MAX_ORDER, DEFAULT_TOLERANCE, StateSpaceMemory, fit_state_space, frequency_error
-from .waves import PhasorClock, Ramp, WaveComponents
-from .work import WorkAccount
+from .waves import Ramp, WaveComponents
 
 RADIATION_METHODS = ("convolution", "state_space")
-# Arguments of the compiled pass for the parts a model does not have (never read there)
-_NO_VECTOR = np.zeros(0)
-_NO_MATRIX = np.zeros((2, 0))
-_NO_ROWS = np.zeros(0, dtype=np.intp)
-_NO_BLOCK = np.zeros(4, dtype=np.int64)
 FORCE_ROWS = ("total", "excitation", "radiation", "hydrostatic", "viscous")  # rows of HydroModel.block
 EXCITATION_METHODS = ("superposition", "convolution")
 
@@ -177,22 +179,18 @@ class HydroModel:
         self.dt = float(dt)
         self.irf_duration = float(irf_duration)
         self.added_mass_inf = sub.added_mass_inf[np.ix_(self.index, self.index)]
-        self.start_time = 0.0
-        self._elapsed = 0.0
-        self._elapsed_error = 0.0  # compensation of the running sum of steps (advance)
         self.record = record
-        self._clock = PhasorClock(waves.omega)
         self.excitation = self._excitation(record) if switches.excitation else None
         self.hydrostatics = LinearHydrostatics(sub, self.index)
         self.pressure_models = self._pressure_models()
         self.viscous = (ViscousForce(options.viscous) if switches.viscous and options.viscous is not None
                         and options.viscous.active else None)
         self.report = RadiationReport(options.radiation_method)
-        self.radiation = self._radiation() if switches.radiation else None
-        self._memory_rate = MemoryRate()
-        self._restoring = -self.hydrostatics.stiffness  # F_hs = -C x as one product (evaluate())
-        self.block = np.zeros((len(FORCE_ROWS), self.n))  # evaluate(): the force components, FORCE_ROWS order
-        self._phasor_table = self._combined_phasor_table()
+        self.state_space = None
+        if switches.radiation:
+            self._radiation()
+        self.runtime = HydroRuntime(runtime_input(self))  # every step-time computation from here on
+        self._masks: tuple[CouplingPattern, np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ construction
     @property
@@ -214,21 +212,6 @@ class HydroModel:
         return ExcitationConvolution(self.hdb, self.index, self.waves.main_heading, eta,
                                      o.excitation_irf_duration, self.dt, self.ramp)
 
-    def _combined_phasor_table(self) -> np.ndarray | None:
-        """(K, n + 1) complex: the excitation's complex force amplitude of each wave component (zero for the
-        components above the database, which it leaves out) and, last, the component's complex elevation
-        amplitude, so that one product with exp(i omega_k t) gives both (:meth:`evaluate`); None if the
-        excitation or the elevation is not the superposition of the components."""
-        convolution = self.excitation is not None and not isinstance(self.excitation, ExcitationForce)
-        if self.record is not None or convolution:
-            return None
-        table = np.zeros((len(self.waves.omega), self.n + 1), complex)
-        table[:, self.n] = self.waves.complex_amplitude
-        if self.excitation is not None and len(self.excitation.omega):
-            keep = np.asarray(self.waves.omega, dtype=float) <= self.hdb.omega[-1]  # as ExcitationForce
-            table[keep, : self.n] = self.excitation.coefficients
-        return table
-
     def _pressure_models(self) -> dict[int, BodyPressureModel]:
         if not self.nonlinear:
             return {}
@@ -240,7 +223,9 @@ class HydroModel:
                                           self.hdb.water_depth)
         return models
 
-    def _radiation(self):
+    def _radiation(self) -> None:
+        """The impulse response (:attr:`kernel` at :attr:`kernel_time`), its report and, for the state space, the
+        fit (:attr:`state_space`)."""
         o = self.options
         omega, damping = self.hdb.omega, self.hdb.radiation_damping[:, self.index][:, :, self.index]
         if o.irf_d_omega > 0:
@@ -262,7 +247,7 @@ class HydroModel:
             self.report.frequency_error = _kernel_frequency_error(
                 self.kernel_time, self.kernel, self.hdb.omega, added_mass, table, self.added_mass_inf,
                 self._scale_floors(table))
-            return RadiationMemory(self.kernel, self.dt)
+            return
         floors = self._scale_floors(self.kernel)
         body = self.index // 6  # one realisation per pair of bodies (order proportional to what couples)
         groups = [np.nonzero(body == b)[0] for b in np.unique(body)]
@@ -275,7 +260,19 @@ class HydroModel:
         self.report.frequency_error = frequency_error(
             fit, self.hdb.omega, added_mass, self.hdb.radiation_damping[:, self.index][:, :, self.index],
             self.added_mass_inf, self._scale_floors(self.hdb.radiation_damping[:, self.index][:, :, self.index]))
-        return StateSpaceMemory(fit)
+
+    @property
+    def radiation(self) -> str | None:
+        """The radiation memory's method (``convolution`` or ``state_space``), None when it is off."""
+        return self.options.radiation_method if self.switches.radiation else None
+
+    def reference_memory(self) -> RadiationMemory | StateSpaceMemory | None:
+        """A new Python radiation memory of this model at rest (the reference implementation of what the runtime
+        steps: tests, benchmarks), None when the radiation is off."""
+        if self.radiation is None:
+            return None
+        return StateSpaceMemory(self.state_space) if self.state_space is not None else RadiationMemory(
+            self.kernel, self.dt)
 
     def _scale_floors(self, table: np.ndarray) -> np.ndarray:
         """1e-3 of the largest diagonal norm among the DOFs of the same kind (translation, rotation)."""
@@ -297,193 +294,88 @@ class HydroModel:
 
     def forces(self, t: float, x: np.ndarray, v: np.ndarray) -> HydroForces:
         """Force components at time ``t`` (s) for displacement ``x`` and velocity ``v``."""
-        zero = np.zeros(self.n)
-        exc = self.excitation(t) if self.excitation is not None else zero
-        rad = -self.radiation.force(v) if self.radiation is not None else zero
-        visc = self.viscous(v) if self.viscous is not None else zero
-        o, sw = self.options, self.switches
-        hs = self.hydrostatics(x) if sw.hydrostatics and not o.nonlinear_hydrostatics else zero
-        if self.nonlinear:
-            hs_nl, fk = self._pressure_forces(t, x)
-            if o.nonlinear_hydrostatics and sw.hydrostatics:
-                hs = hs_nl
-            if o.nonlinear_froude_krylov and sw.excitation:
-                exc = exc + fk
-        return HydroForces(total=exc + rad + hs + visc, excitation=exc, radiation=rad, hydrostatic=hs, viscous=visc)
+        self.runtime.evaluate(t, x, v)
+        return HydroForces(*self.runtime.block.copy())
 
     def evaluate(self, t: float, x: np.ndarray, v: np.ndarray) -> float:
         """The force components at time ``t`` (s) for ``x``, ``v`` written into :attr:`block` (rows in
         :data:`FORCE_ROWS` order: total, excitation, radiation, hydrostatic, viscous); returns the wave
-        elevation at the origin (m).
-
-        The same values as :meth:`forces` and :meth:`elevation` to round-off (only the order of some sums
-        differs), in one pass over preallocated arrays: excitation and elevation from one product of the
-        phasors with :meth:`_combined_phasor_table`, the radiation memory as one matrix-vector product into
-        its row, the total as one sum over the rows. A nonlinear model, an imported record or the excitation
-        convolution take the general path for those parts.
-        """
-        block = self.block
-        exc, rad, hs, visc = block[1], block[2], block[3], block[4]
-        o, sw = self.options, self.switches
-        table = self._phasor_table
-        if table is not None:
-            r = 1.0 if t >= self.ramp.duration else self.ramp(t)
-            z = np.dot(self._clock(t), table)
-            np.multiply(z.real[: self.n], r, out=exc)
-            eta = float(z.real[self.n]) * r
-        else:
-            if self.excitation is not None:
-                exc[:] = self.excitation(t)
-            eta = self.elevation(t)
-        if self.radiation is not None:
-            self.radiation.force(v, out=rad)
-            np.negative(rad, out=rad)
-        if self.viscous is not None:
-            visc[:] = self.viscous(v)
-        if sw.hydrostatics and not o.nonlinear_hydrostatics:
-            np.dot(self._restoring, x, out=hs)
-        if self.nonlinear:
-            hs_nl, fk = self._pressure_forces(t, x)
-            if o.nonlinear_hydrostatics and sw.hydrostatics:
-                hs[:] = hs_nl
-            if o.nonlinear_froude_krylov and sw.excitation:
-                exc += fk
-        np.sum(block[1:], axis=0, out=block[0])  # ((exc + rad) + hs) + visc, as forces()
-        return eta
+        elevation at the origin (m). One runtime call (native/src/hydro/evaluate.c)."""
+        return self.runtime.evaluate(t, x, v)
 
     @property
-    def compiled(self) -> bool:
-        """Whether :meth:`outputs` runs the compiled pass (:func:`hydro_fmu.kernels.point_outputs`): numba
-        available and a linear model whose excitation and elevation are the components' superposition."""
-        return COMPILED and self._phasor_table is not None and not self.nonlinear
+    def block(self) -> np.ndarray:
+        """The force rows (5, n) of the last :meth:`evaluate` or :meth:`forces`."""
+        return self.runtime.block
 
     def outputs(self, t: float, x: np.ndarray, v: np.ndarray, rows: np.ndarray, out: np.ndarray,
-                power: np.ndarray, account: WorkAccount, energy: np.ndarray) -> float:
-        """Everything the FMU publishes at time ``t`` (s) for ``x``, ``v``: the force components into
-        :attr:`block` (as :meth:`evaluate`), its rows ``rows`` copied into the rows of ``out``, the power of each
-        component (W, :data:`hydro_fmu.work.COMPONENTS` order) into ``power`` and the work at ``t`` (J) from
-        ``account`` into ``energy``; returns the wave elevation at the origin (m).
+                power: np.ndarray, energy: np.ndarray) -> float:
+        """Everything the FMU publishes at time ``t`` (s) for ``x``, ``v``: the force rows ``rows`` (FORCE_ROWS
+        indices) into the rows of ``out``, the power of each component (W, :data:`hydro_fmu.work.COMPONENTS` order)
+        into ``power`` and its work at ``t`` (J; trapezoidal rule over the committed points) into ``energy``; returns
+        the wave elevation at the origin (m). One runtime call."""
+        return self.runtime.outputs(t, x, v, rows, out, power, energy)
 
-        One compiled call (:mod:`hydro_fmu.kernels`) when :attr:`compiled`; else :meth:`evaluate` and numpy.
-        Both give the values of :meth:`forces`, :meth:`elevation` and :class:`hydro_fmu.work.WorkAccount` to
-        round-off (tests/test_hydro_fast_path.py).
-        """
-        if not self.compiled:
-            eta = self.evaluate(t, x, v)
-            np.take(self.block, rows, axis=0, out=out)
-            np.dot(self.block[1:], v, out=power)  # COMPONENTS order: the block's rows after the total
-            account.value(t, power, out=energy)
-            return eta
-        rad = self.radiation
-        mode, ring, last, steps, gap, weights = RADIATION_NONE, _NO_MATRIX, _NO_VECTOR, 0, 1, _NO_MATRIX
-        history, block = _NO_MATRIX, _NO_BLOCK
-        if isinstance(rad, RadiationMemory):
-            mode, ring, last, steps, gap, weights = (RADIATION_CONVOLUTION, rad._ring, rad._last, rad.steps, rad.gap,
-                                                     rad._all)
-            try:
-                history, block = rad._history, rad._block
-            except AttributeError:  # decoded from a state saved before the blocks existed
-                rad._clear_block()
-                history, block = rad._history, rad._block
-        elif rad is not None:
-            mode = RADIATION_GIVEN
-            rad.force(v, out=self.block[2])
-        visc = self.viscous
-        hydrostatics = self.switches.hydrostatics
-        last_power = account.last_power
-        return point_outputs(float(t), self._clock(t), self._phasor_table, float(self.ramp.duration), mode, ring, last,
-                             steps, gap, weights, history, block, hydrostatics,
-                             self._restoring if hydrostatics else _NO_MATRIX,
-                             visc is not None, _NO_VECTOR if visc is None else visc.linear,
-                             _NO_VECTOR if visc is None else visc.quadratic, x, v, self.block, rows, out, power,
-                             account.committed, _NO_VECTOR if last_power is None else last_power,
-                             float(account.last_time), last_power is not None, energy)
+    def commit_work(self, t: float, x: np.ndarray, v: np.ndarray) -> None:
+        """Accept the point ``t`` for inputs ``x``, ``v`` into the work account (evaluated there if it was not)."""
+        self.runtime.commit_work(t, x, v)
 
     def affine(self, t: float, x: np.ndarray, v: np.ndarray, pattern: CouplingPattern,
                forces: HydroForces | None = None) -> AffineForce:
         """The affine model of the force over the next step about (t, x, v), with the tangents restricted to
-        ``pattern`` (:mod:`hydro_fmu.linearisation`); ``forces``: :meth:`forces` at the same point if known.
-        Call it at every communication point: the memory rate is the difference between the last two calls
-        at different times."""
-        n = self.n
-        f = forces if forces is not None else self.forces(t, x, v)
-        dfdx = np.zeros((n, n))
-        dfdv = np.zeros((n, n))
-        o, sw = self.options, self.switches
-        if sw.hydrostatics and not o.nonlinear_hydrostatics:
-            dfdx -= self.hydrostatics.stiffness
-        if self.nonlinear:
-            dfdx += self._pressure_tangent(t, x)
-        rate = self.excitation.rate(t) if self.excitation is not None else np.zeros(n)
-        if self.nonlinear and o.nonlinear_froude_krylov and sw.excitation:
-            delta = 1e-4
-            ahead, behind = self._pressure_forces(t + delta, x)[1], self._pressure_forces(t - delta, x)[1]
-            rate = rate + (ahead - behind) / (2 * delta)
-        if self.radiation is not None:
-            d = self.radiation.instantaneous_damping()
-            dfdv -= d
-            known = -f.radiation - d @ v  # memory of the committed velocities (mu = -F_rad), without v's share
-            rate = rate - self._memory_rate.update(t, known)
-        if self.viscous is not None:
-            dfdv += np.diag(self.viscous.tangent(v))
-        dfdx = np.where(pattern.mask(n, "stiffness"), dfdx, 0.0)
-        dfdv = np.where(pattern.mask(n, "damping"), dfdv, 0.0)
-        return AffineForce(f.total - dfdx @ x - dfdv @ v, rate, dfdx, dfdv)
-
-    def _pressure_tangent(self, t: float, x: np.ndarray, delta: float = 1e-6) -> np.ndarray:
-        """d(F_hs + F_FK)/dx of the nonlinear pressure forces by central differences within each body."""
-        n = self.n
-        out = np.zeros((n, n))
-        start = 0
-        for dofs in self.dofs:
-            for j in range(start, start + len(dofs)):
-                e = np.zeros(n)
-                e[j] = delta
-                fp = sum(self._pressure_forces(t, x + e))
-                fm = sum(self._pressure_forces(t, x - e))
-                out[start:start + len(dofs), j] = (fp - fm)[start:start + len(dofs)] / (2 * delta)
-            start += len(dofs)
-        return out
-
-    def _pressure_forces(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Nonlinear hydrostatic and Froude-Krylov forces on the selected DOFs."""
-        hs = np.zeros(self.n)
-        fk = np.zeros(self.n)
-        o = self.options
-        start = 0
-        for b, dofs in enumerate(self.dofs):
-            pose = np.zeros(6)
-            pose[dofs] = x[start : start + len(dofs)]
-            f_hs, f_fk = self.pressure_models[b].forces(
-                pose, t, self.waves, self.ramp, hydrostatics=o.nonlinear_hydrostatics and self.switches.hydrostatics,
-                froude_krylov=o.nonlinear_froude_krylov and self.switches.excitation)
-            hs[start : start + len(dofs)] = f_hs[dofs]
-            fk[start : start + len(dofs)] = f_fk[dofs]
-            start += len(dofs)
-        return hs, fk
+        ``pattern`` (:mod:`hydro_fmu.linearisation`; native/src/hydro/linearised.c). Call it at every communication
+        point: the memory rate is the difference between the last two calls at different times. ``forces`` (the
+        point's forces, if known) is not needed: the runtime keeps its last point."""
+        if self._masks is None or self._masks[0] is not pattern:
+            self._masks = (pattern, pattern.mask(self.n, "stiffness"), pattern.mask(self.n, "damping"))
+        return AffineForce(*self.runtime.linearise(t, x, v, self._masks[1], self._masks[2]))
 
     def advance(self, t: float, h: float, v: np.ndarray) -> None:
-        """Commit the velocity at time ``t`` and step to ``t + h`` (convolution: ``h`` a whole number
-        of radiation steps ``dt``, any number, so variable communication steps work; state space: any h)."""
-        expected = self.start_time + self._elapsed
-        if abs(t - expected) > 1e-6 * max(self.dt, abs(h)):
-            raise ValueError(f"step starts at t = {t:g} s but the radiation history is at t = {expected:g} s")
-        if self.radiation is not None:
-            self.radiation.step(v, h)
-        elif not h > 0:
-            raise ValueError(f"a step must be positive (got {h})")
-        # compensated (Kahan) sum: a plain sum of ~1e6 steps drifts by ~n u t (3e-6 s after 26 000 s at 0.02 s,
-        # beyond the check above); compensated, by ~2 u t whatever the number of steps
-        y = h - getattr(self, "_elapsed_error", 0.0)
-        total = self._elapsed + y
-        self._elapsed_error = (total - self._elapsed) - y
-        self._elapsed = total
+        """Commit the velocity at time ``t`` and step to ``t + h`` (convolution: ``h`` a whole number of radiation
+        steps ``dt``, any number, so variable communication steps work; state space: any h); ``ValueError`` with
+        the reason if the step cannot be taken (t not the current point, h not a multiple of dt)."""
+        self.runtime.advance(t, h, v)
 
     def elevation(self, t: float) -> float:
         """Incident wave elevation at the world origin (m): the record if imported, else the components."""
-        if self.record is not None:
-            return float(self.record(t)) * self.ramp(t)
-        return float(np.real(self._clock(t) @ self.waves.complex_amplitude)) * self.ramp(t)
+        return self.runtime.elevation(t)
+
+    @property
+    def start_time(self) -> float:
+        """Time of the first communication point (s)."""
+        return getattr(self, "_start_time", 0.0)
+
+    @start_time.setter
+    def start_time(self, value: float) -> None:
+        self._start_time = float(value)
+        self.runtime.set_start_time(value)
+
+    # ------------------------------------------------------------------ copies and state
+    def __deepcopy__(self, memo: dict) -> HydroModel:
+        """An independent model: the preparation shared (read-only), the runtime cloned (its state copied)."""
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.runtime = self.runtime.clone()
+        memo[id(self)] = new
+        return new
+
+    def __copy__(self) -> HydroModel:
+        """The same as a deep copy: a model's copy steps on its own."""
+        return self.__deepcopy__({})
+
+    def __getstate__(self) -> dict:
+        """What changes as the model runs: the runtime's state (bytes) and the start time; everything else is the
+        preparation, which a state is loaded back onto (:mod:`fmu_base.state_codec` templates, FMU states)."""
+        return {"runtime": self.runtime.state(), "start_time": self.start_time}
+
+    def __setstate__(self, state: dict) -> None:
+        if "runtime" not in vars(self):
+            raise ValueError("a hydro model state is loaded into a model built from the same scene, not on its own")
+        if not isinstance(state, dict) or not isinstance(state.get("runtime"), bytes):
+            raise ValueError("not a hydro model state of the compiled runtime (a state saved by an earlier version of "
+                             "the toolkit cannot be loaded: run again from the start)")
+        self.runtime.load_state(state["runtime"])
+        self._start_time = float(state["start_time"])
 
 
 def _kernel_frequency_error(t: np.ndarray, kernel: np.ndarray, omega: np.ndarray, added_mass: np.ndarray,

@@ -39,8 +39,9 @@ import numpy as np
 
 from .transforms import fourier_integral
 
-# Points that share one pass over the convolution weights (hydro_fmu.kernels.blocked_memory). Hinge barge in a
-# co-simulation loop, compiled pass per point: 21 us with B = 1, 11 us with B = 4 to 32 alike
+# Points that share one pass over the convolution weights (the runtime's radiation.block_points,
+# native/src/hydro/radiation_convolution.c). Hinge barge in a co-simulation loop, measured with the numba pass the
+# runtime replaced (same blocks): 21 us per point with B = 1, 11 us with B = 4 to 32 alike
 # (benchmarks/results/hydro_block.txt); 8 keeps a block's first point short.
 BLOCK_POINTS = 8
 # Tail correction of :func:`kramers_kronig_tail`: hats at Omega r^j, j = 1..count, ridge weight.
@@ -200,15 +201,10 @@ class RadiationMemory:
     (n, m n) matrix, so the force is a single matrix-vector product (about 11 us for n = 6,
     m = 1500 here) and committing a point writes no more than its own rows.
 
-    The compiled pass (:func:`hydro_fmu.kernels.blocked_memory`) shares one pass over the weights between
-    the next ``block_points`` points: the part of their sums that reaches only into committed velocities is
-    computed once into ``_history``, described by ``_block`` ([valid, block start, stride, count]). Both are
-    saved and restored with the rest of the memory (they belong to the ring and step count they were computed
-    from), so a restored or resumed run continues with the same sums, bit for bit; a memory without them (decoded
-    from a state saved before they existed) gets new ones at the next point.
+    This is the Python reference of the memory the hydro model steps in the compiled runtime
+    (native/src/hydro/radiation_convolution.c, the same layout, the sums blocked over points):
+    :meth:`hydro_fmu.model.HydroModel.reference_memory` makes one.
     """
-
-    block_points = BLOCK_POINTS
 
     def __init__(self, kernel: np.ndarray, dt: float) -> None:
         m, n, _ = kernel.shape
@@ -228,12 +224,6 @@ class RadiationMemory:
         self._last = np.zeros(n)  # velocity at the last committed grid point
         self.gap = 1  # grid steps from the last committed point to the current time
         self.steps = 0  # grid points committed so far
-        self._clear_block()
-
-    def _clear_block(self) -> None:
-        """No block of history sums (:func:`hydro_fmu.kernels.blocked_memory` starts one at the next point)."""
-        self._history = np.zeros((self.block_points, self.n))
-        self._block = np.zeros(4, dtype=np.int64)
 
     @property
     def current(self) -> int:

@@ -44,10 +44,10 @@ from .bemio import read_bemio
 from .drag import ViscousCoefficients
 from .linearisation import CouplingPattern
 from .meshes import read_meshes
-from .model import ForceSwitches, HydroForces, HydroModel, HydroOptions
+from .model import ForceSwitches, HydroModel, HydroOptions
 from .sea import SeaSpec, build_sea
 from .state_space import DEFAULT_TOLERANCE
-from .work import COMPONENTS, WorkAccount
+from .work import COMPONENTS
 
 DOF_UNITS = ("m", "m", "m", "rad", "rad", "rad")
 VEL_UNITS = ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
@@ -85,7 +85,7 @@ class HydroSlave(VectorSlave):
 
     author = "wec-cosim"
     description = "Hydrodynamic forces (Cummins equation): excitation, radiation memory, hydrostatics, drag"
-    state_attributes = ("model", "time", "clock", "work", "_power")
+    state_attributes = ("model", "time", "clock")  # the work account lives in the model's runtime
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -100,8 +100,7 @@ class HydroSlave(VectorSlave):
         self.model: HydroModel | None = None
         self._built_with: tuple | None = None
         self.time = 0.0
-        self.work = WorkAccount()
-        self._power = np.zeros(len(COMPONENTS))
+        self._power = np.zeros(len(COMPONENTS))  # the point's powers (not state: computed with the outputs)
         self.clock = StepClock()
         self.set_default_experiment(self.spec)
         self._register_parameters()
@@ -293,16 +292,15 @@ class HydroSlave(VectorSlave):
 
     def update_outputs(self) -> None:
         """Every output of the current point in one pass (:meth:`HydroModel.outputs`: forces, their copy into the
-        output variables, powers and work; one compiled call for a linear model)."""
+        output variables, powers and work; one runtime call)."""
         rows, outputs = self._force_outputs
         self._affine_fresh = False
         if isinstance(outputs, np.ndarray):
             self._elevation[0] = self.model.outputs(self.time, self._x, self._v, rows, outputs, self._power,
-                                                    self.work, self._energy)
+                                                    self._energy)
             return
         block = np.zeros((len(rows), len(self._v)))  # outputs not adjacent in the store: copied one by one
-        self._elevation[0] = self.model.outputs(self.time, self._x, self._v, rows, block, self._power, self.work,
-                                                self._energy)
+        self._elevation[0] = self.model.outputs(self.time, self._x, self._v, rows, block, self._power, self._energy)
         for row, out in zip(block, outputs, strict=True):
             out[:] = row
 
@@ -319,8 +317,7 @@ class HydroSlave(VectorSlave):
         return self._values.gather(vrs)
 
     def _update_affine(self) -> None:
-        forces = HydroForces(*self.model.block.copy())  # this point's (refresh_outputs ran first)
-        a = self.model.affine(self.time, self.array("x"), self.array("v"), self.pattern, forces)
+        a = self.model.affine(self.time, self._x, self._v, self.pattern)  # at this point (its outputs ran first)
         self.array("F0")[:] = a.constant
         self.array("F0_rate")[:] = a.rate
         self.array("dF_dx")[:] = a.dfdx[self._pattern_index["stiffness"]]
@@ -331,7 +328,7 @@ class HydroSlave(VectorSlave):
         if self._outputs_stale:  # the power at this point (its inputs set, outputs maybe not read)
             self.update_outputs()
             self._outputs_stale = False
-        self.work.commit(self.time, self._power, self._energy)  # the FMU's own clock (below); work at this point
+        self.model.commit_work(self.time, self._x, self._v)  # the FMU's own clock (below); work at this point
         try:
             self.model.advance(current_time, step_size, self._v)  # the memories copy what they keep
         except ValueError as exc:

@@ -58,7 +58,7 @@ def test_every_code_block_of_the_api_page_runs_in_a_fresh_process(tmp_path: Path
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-5000:]
     out = done.stdout
     assert "waves.height = -3.0, set in Python: must not be negative (got -3.0)" in out
-    assert "changed in Python (simulation.step" in out
+    assert "changed in Python (simulation.duration" in out
     assert "steady state against the exact frequency-domain solution" in out
     assert (tmp_path / "results" / "cylinder.nc").is_file() and (tmp_path / "results" / "figures").is_dir()
 

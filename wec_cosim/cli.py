@@ -147,6 +147,20 @@ def cmd_build_fmus(args: argparse.Namespace) -> int:
         target = out / f"{scene.scenario.name}_{kind}.fmu"
         shutil.copy(path, target)
         print(f"{kind}: {target}")
+    if args.native:
+        from hydro_fmu.native_fmu import NativeBuildError, build_native_hydro_fmu, sea_constants
+
+        s = scene.scenario
+        for version in (2, 3):
+            target = out / f"{s.name}_hydro_native_fmi{version}.fmu"
+            try:
+                build_native_hydro_fmu(scene.hydro_model(), target, constants=sea_constants(scene.sea_spec()),
+                                       name=f"{s.name}_hydro", fmi_version=version,
+                                       experiment=(0.0, s.simulation.duration, s.simulation.step))
+            except NativeBuildError as exc:
+                print(f"wec-cosim build-fmus: {exc}", file=sys.stderr)
+                return 2
+            print(f"hydro (native, FMI {version}.0, no Python needed; sea fixed at build time): {target}")
     print("connect them as docs/fmu_variables.md says (the linearised force interface: x, v -> hydro; F0, F0_rate, "
           "dF_dx, dF_dv -> mbd); in a C/C++ host use the environment of `wec-cosim host-env` (docs/hosts/)")
     return 0
@@ -317,6 +331,9 @@ def parser() -> argparse.ArgumentParser:
     b = sub.add_parser("build-fmus", help="build the scenario's hydrodynamics and multibody FMUs")
     b.add_argument("scenario")
     b.add_argument("--out", default="fmus", help="folder for the FMUs (default ./fmus)")
+    b.add_argument("--native", action="store_true",
+                   help="also write the native hydro FMUs (FMI 2.0 and 3.0, compiled C, no Python needed in the host; "
+                        "the sea is fixed at build time: docs/hosts/native_fmus.md)")
     b.set_defaults(func=cmd_build_fmus)
     from orchestrator.control.examples import add_arguments
 

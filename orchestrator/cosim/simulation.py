@@ -209,34 +209,32 @@ def prepare_run(scenario: Scenario, *, in_process: bool = False, log=print, scen
 
 
 # CPU seconds that compiling each kernel module costs on first use, measured on a 2-core machine: the multibody
-# kernels in benchmarks/results/first_run.txt (146-164 s), the hydrodynamic ones and the null-space ones in
-# benchmarks/results/first_run_notice.txt (a cold cylinder run 12.8 s of CPU against 5.0 s warm; a cold
-# null-space hinge-barge run 195 s in all).
-COMPILE_SECONDS = {("hydro_fmu", "kernels"): 8.0, ("mbd_fmu", "kernels"): 155.0,
-                   ("mbd_fmu", "nullspace_kernels"): 35.0}
+# kernels in benchmarks/results/first_run.txt (146-164 s), the null-space ones in
+# benchmarks/results/first_run_notice.txt (a cold null-space hinge-barge run 195 s in all). The hydrodynamics needs
+# none: it runs on the compiled runtime built at install (docs/runtime.md), so a linear scene compiles nothing at its
+# first run.
+COMPILE_SECONDS = {("mbd_fmu", "kernels"): 155.0, ("mbd_fmu", "nullspace_kernels"): 35.0}
 
 
 def compile_notice(scene: Scene) -> str | None:
     """A line to show before the FMUs start when their compiled kernels are not in the cache yet (the first run
-    of this version of the sources): which, how long it takes, and where the result is kept; None when warm."""
-    import hydro_fmu
+    of this version of the sources): which, how long it takes, and where the result is kept; None when warm or when
+    the scene needs no kernel (the linear model: the hydrodynamics is compiled at install)."""
     import mbd_fmu
     from fmu_base._jit import cache_root
 
-    needed = [("hydro_fmu", "kernels")]
+    needed = []
     formulation = scene.scenario.formulation
     if formulation != "linear":
         needed.append(("mbd_fmu", "kernels"))
     if formulation == "nullspace":
         needed.append(("mbd_fmu", "nullspace_kernels"))
-    folders = {"hydro_fmu": Path(hydro_fmu.__file__).parent, "mbd_fmu": Path(mbd_fmu.__file__).parent}
-    missing = [(pkg, mod) for pkg, mod in needed if not is_compiled(folders[pkg] / f"{mod}.py")]
+    folder = Path(mbd_fmu.__file__).parent
+    missing = [(pkg, mod) for pkg, mod in needed if not is_compiled(folder / f"{mod}.py")]
     if not missing:
         return None
     seconds = sum(COMPILE_SECONDS[m] for m in missing)
-    what = " and ".join({"hydro_fmu": "hydrodynamic", "mbd_fmu": "multibody"}[pkg] + (" null-space" if "null" in mod
-                                                                                      else "")
-                        for pkg, mod in missing)
+    what = " and ".join("multibody" + (" null-space" if "null" in mod else "") for _, mod in missing)
     span = f"about {seconds / 60:.1g} minutes" if seconds >= 90 else f"about {seconds:.0f} s"
     return (f"compiling the {what} kernels for this version of wec-cosim: {span} of CPU on a 2-core machine, longer "
             f"under load; once: later runs load them from {cache_root()} ...")

@@ -168,9 +168,10 @@ def _copy_patched(fmu: Path, target: Path) -> None:
 
 
 def hash_sources(h: hashlib._Hash, packages: tuple[str, ...]) -> None:
-    """Feed the Python sources of ``packages`` (paths and contents, in a fixed order) to the hash ``h``."""
+    """Feed the sources of ``packages`` and the compiled runtime they bundle (``.py``, ``.so``, ``.dylib``,
+    ``.dll``: paths and contents, in a fixed order) to the hash ``h``."""
     for package in packages:
-        for f in sorted((ROOT / package).rglob("*.py")):
+        for f in sorted(p for p in (ROOT / package).rglob("*") if p.suffix in (".py", ".so", ".dylib", ".dll")):
             h.update(f.relative_to(ROOT).as_posix().encode())
             h.update(f.read_bytes())
 
@@ -188,7 +189,7 @@ def _key(recipe: FmuRecipe, spec: dict, data_files: dict[str, Path]) -> str:
     h.update(pythonfmu.__version__.encode())
     h.update(BUILD_REVISION.encode())
     h.update(json.dumps(spec, sort_keys=True).encode())
-    hash_sources(h, (recipe.package, "fmu_base"))
+    hash_sources(h, (recipe.package, "fmu_base"))  # sources and the compiled runtime (fmu_base/_wecrt.so)
     for name, f in sorted(data_files.items()):
         h.update(name.encode())
         h.update(hashlib.sha256(Path(f).read_bytes()).digest())

@@ -1,11 +1,14 @@
-"""The hydro FMU's one-pass evaluation (HydroModel.evaluate, the compiled pass HydroModel.outputs, the slave's
-value store) against the reference path (HydroModel.forces, HydroModel.elevation, WorkAccount.powers/value) and
-against a direct convolution sum.
+"""The hydro model as the FMU, the monolithic mode and the bench report use it (HydroModel.outputs, evaluate, forces,
+elevation, advance: the compiled runtime) against the Python reference of the same physics assembled from the
+model's own component objects (ExcitationForce, the reference radiation memory, LinearHydrostatics, ViscousForce,
+the wave components, WorkAccount), over whole runs of bundled scenes; the Python reference memory against the
+trapezoidal sum written out; the FMU's value store.
 
-Expected values come from the reference formulas evaluated independently: the trapezoidal convolution written
-out as a plain sum over the recorded grid velocities, and the component-by-component force model; the fast path
-must agree with them to round-off over whole runs (regular and irregular seas, convolution with communication
-steps of several grid steps, state-space radiation).
+Expected values come from the reference formulas evaluated independently: the Python component classes (tested
+themselves against exact answers in test_radiation, test_excitation, test_state_space, test_drag_nonlinear) and the
+trapezoidal convolution written out as a plain sum over the recorded grid velocities. The runtime must agree with
+them to round-off over whole runs (regular and irregular seas, convolution with communication steps of several grid
+steps, state-space radiation, drag, components above the database's range).
 """
 
 from __future__ import annotations
@@ -18,7 +21,6 @@ import numpy as np
 import pytest
 
 from fmu_base.slave import RealStore
-from hydro_fmu import kernels
 from hydro_fmu.model import FORCE_ROWS, HydroModel
 from hydro_fmu.radiation import RadiationMemory
 from hydro_fmu.work import COMPONENTS, WorkAccount
@@ -26,6 +28,7 @@ from orchestrator.scenario import load_scenario
 from orchestrator.scene import load_scene
 
 from .conftest import SCENARIOS
+from .hydro_runtime_cases import direct_convolution
 
 
 def _velocity(t: float, n: int) -> np.ndarray:
@@ -34,23 +37,11 @@ def _velocity(t: float, n: int) -> np.ndarray:
     return 0.3 * np.sin(0.7 * k * t + 0.2 * k) + 0.05 * np.cos(1.9 * t / k)
 
 
-def direct_convolution(kernel: np.ndarray, dt: float, history: dict[int, np.ndarray], now: int) -> np.ndarray:
-    """mu at grid point ``now``: sum_j w_j K(j dt) v(now - j), trapezoidal weights over the kernel's m samples,
-    zero velocity before the start (grid velocities in ``history``)."""
-    m, n, _ = kernel.shape
-    mu = np.zeros(n)
-    for j in range(m):
-        if now - j < 0:
-            break
-        w = dt / 2 if j in (0, m - 1) else dt
-        mu += w * kernel[j] @ history[now - j]
-    return mu
-
-
 @pytest.mark.parametrize("steps", [(1,), (3,), (1, 4, 2, 7, 1, 13)])
-def test_radiation_memory_is_the_direct_trapezoidal_sum(steps: tuple[int, ...]) -> None:
-    """Communication every q grid steps (q cycling through ``steps``, q up to longer than the kernel): the memory
-    equals the plain sum over grid velocities, those between communication points interpolated linearly."""
+def test_reference_memory_is_the_direct_trapezoidal_sum(steps: tuple[int, ...]) -> None:
+    """The Python reference memory, communication every q grid steps (q cycling through ``steps``, q up to longer
+    than the kernel): the plain sum over grid velocities, those between communication points interpolated
+    linearly."""
     dt, m, n = 0.1, 9, 3
     rng = np.random.default_rng(3)
     kernel = rng.normal(size=(m, n, n))
@@ -70,75 +61,79 @@ def test_radiation_memory_is_the_direct_trapezoidal_sum(steps: tuple[int, ...]) 
         last, v_last, now = now, v, now + q
 
 
-def _drive(model: HydroModel, fast: bool | str, h: float, steps: int) -> list[tuple[np.ndarray, float, np.ndarray]]:
-    """Run the model with a prescribed motion; per point (force block, elevation, work). ``fast``: False the
-    reference path, True :meth:`HydroModel.evaluate`, "outputs" :meth:`HydroModel.outputs` (the compiled pass
-    when the model is covered) writing into output rows in another order, as the FMU's variables may be."""
+def _reference(model: HydroModel, h: float, steps: int) -> list[tuple[np.ndarray, float, np.ndarray]]:
+    """The run through the Python component objects: per point (force rows, elevation, work)."""
     n = model.n
+    memory = model.reference_memory()
     account = WorkAccount()
+    zero = np.zeros(n)
     out = []
-    power = np.zeros(len(COMPONENTS))
-    energy = np.zeros(len(COMPONENTS))
+    for k in range(steps):
+        t = k * h
+        v, x = _velocity(t, n), 0.1 * np.cos(0.5 * t + np.arange(n))
+        exc = model.excitation(t) if model.excitation is not None else zero
+        rad = -memory.force(v) if memory is not None else zero
+        hs = model.hydrostatics(x) if model.switches.hydrostatics else zero
+        visc = model.viscous(v) if model.viscous is not None else zero
+        block = np.array([((exc + rad) + hs) + visc, exc, rad, hs, visc])
+        eta = model.waves.elevation(t, model.ramp)
+        power = WorkAccount.powers(exc, rad, hs, visc, v)
+        out.append((block, eta, account.value(t, power)))
+        account.commit(t, power)
+        if memory is not None:
+            memory.step(v, h)
+    return out
+
+
+def _drive(model: HydroModel, h: float, steps: int) -> list[tuple[np.ndarray, float, np.ndarray]]:
+    """The run through HydroModel.outputs as the FMU calls it (rows in another order than FORCE_ROWS, each point read
+    twice, work committed at the point, then the step)."""
+    n = model.n
+    out = []
+    power, energy = np.zeros(len(COMPONENTS)), np.zeros(len(COMPONENTS))
     rows = np.array([4, 0, 2, 1, 3], dtype=np.intp)
     outputs = np.full((len(rows), n), np.nan)
     for k in range(steps):
         t = k * h
-        v = _velocity(t, n)
-        x = 0.1 * np.cos(0.5 * t + np.arange(n))
-        if fast == "outputs":
-            for _ in range(2):  # reading a point twice gives the same answer
-                eta = model.outputs(t, x, v, rows, outputs, power, account, energy)
-            block = np.empty_like(outputs)
-            block[rows] = outputs
-            work = energy.copy()
-        elif fast:
-            eta = model.evaluate(t, x, v)
-            block = model.block.copy()
-            np.dot(model.block[1:], v, out=power)
-            account.value(t, power, out=energy)
-            work = energy.copy()
-        else:
-            f = model.forces(t, x, v)
-            eta = model.elevation(t)
-            block = np.array([getattr(f, name) for name in FORCE_ROWS])
-            power = WorkAccount.powers(f.excitation, f.radiation, f.hydrostatic, f.viscous, v)
-            work = account.value(t, power)
-        out.append((block, eta, work))
-        account.commit(t, power)
+        v, x = _velocity(t, n), 0.1 * np.cos(0.5 * t + np.arange(n))
+        for _ in range(2):
+            eta = model.outputs(t, x, v, rows, outputs, power, energy)
+        block = np.empty_like(outputs)
+        block[rows] = outputs
+        forces = model.forces(t, x, v)
+        np.testing.assert_array_equal(np.array([getattr(forces, name) for name in FORCE_ROWS]), block)
+        assert model.elevation(t) == eta
+        out.append((block, eta, energy.copy()))
+        model.commit_work(t, x, v)
         model.advance(t, h, v)
     return out
 
 
 def _compare(model: HydroModel, h: float, steps: int) -> list[str]:
-    """Fast (evaluate) and the compiled pass (outputs) against reference over a run; the force components that
-    are not zero."""
-    reference = _drive(copy.deepcopy(model), False, h, steps)
+    """The model against the reference over a run; the force components that are not zero."""
+    reference = _reference(model, h, steps)
     scale = max(np.abs(b).max() for b, _, _ in reference)
     work_scale = max(np.abs(w).max() for _, _, w in reference)
     eta_scale = max(abs(e) for _, e, _ in reference)
     assert scale > 0 and work_scale > 0
-    for mode in (True, "outputs"):
-        fast = _drive(copy.deepcopy(model), mode, h, steps)
-        for (b0, e0, w0), (b1, e1, w1) in zip(reference, fast, strict=True):
-            np.testing.assert_allclose(b1, b0, rtol=0, atol=1e-12 * scale)
-            assert abs(e1 - e0) <= 1e-12 * max(eta_scale, 1e-300)
-            np.testing.assert_allclose(w1, w0, rtol=0, atol=1e-12 * work_scale)
-    nonzero = [name for i, name in enumerate(FORCE_ROWS) if np.abs(reference[-1][0][i]).max() > 0]
-    return nonzero
+    for (b0, e0, w0), (b1, e1, w1) in zip(reference, _drive(copy.deepcopy(model), h, steps), strict=True):
+        np.testing.assert_allclose(b1, b0, rtol=0, atol=1e-12 * scale)
+        assert abs(e1 - e0) <= 1e-12 * max(eta_scale, 1e-300)
+        np.testing.assert_allclose(w1, w0, rtol=0, atol=1e-12 * work_scale)
+    return [name for i, name in enumerate(FORCE_ROWS) if np.abs(reference[-1][0][i]).max() > 0]
 
 
-def test_fast_path_equals_reference_hinge_barge_regular_sea_convolution() -> None:
+def test_model_equals_reference_hinge_barge_regular_sea_convolution() -> None:
     """Hinge barge (two bodies, regular sea, 30 s convolution kernel), one grid step per communication point."""
     scene = load_scene(load_scenario(SCENARIOS / "hinge_barge.toml"), log=None)
     model = scene.hydro_model()
     assert model.report.method == "convolution"
-    assert model.compiled == kernels.COMPILED  # the compiled pass covers it (when numba is there)
     h = scene.scenario.simulation.step
     present = _compare(model, h, round(12.0 / h))
     assert {"excitation", "radiation", "hydrostatic"} <= set(present)
 
 
-def test_fast_path_equals_reference_irregular_sea_gap_and_viscous() -> None:
+def test_model_equals_reference_irregular_sea_gap_and_viscous() -> None:
     """Cylinder in an irregular sea (many components, some above the database's range) with linear and quadratic
     drag; communication every 3 radiation grid steps (interpolated memory points) and through the ramp."""
     scenario = load_scenario(SCENARIOS / "cylinder_irregular.toml")
@@ -154,20 +149,18 @@ def test_fast_path_equals_reference_irregular_sea_gap_and_viscous() -> None:
     dt = 0.05
     model = HydroModel(scene.hdb, scene.hydro_bodies, dofs, sea.components, sea.ramp, dt, 20.0, scene.switches(),
                        options)
-    assert len(sea.components.omega) > 50 and model.radiation.gap == 1
-    assert model.compiled == kernels.COMPILED
+    assert len(sea.components.omega) > 50
     assert sea.components.omega.max() > scene.hdb.omega[-1]  # components the excitation leaves out
     present = _compare(model, 3 * dt, 400)
     assert set(present) == set(FORCE_ROWS)
 
 
-def test_fast_path_equals_reference_state_space() -> None:
+def test_model_equals_reference_state_space() -> None:
     """State-space radiation (the irregular cylinder scenario's own model), a step that is not a multiple of
     anything in particular."""
     scene = load_scene(load_scenario(SCENARIOS / "cylinder_irregular.toml"), log=None)
     model = scene.hydro_model()
     assert model.report.method == "state_space"
-    assert model.compiled == kernels.COMPILED
     present = _compare(model, 0.07, 400)
     assert {"excitation", "radiation", "hydrostatic"} <= set(present)
 
