@@ -90,11 +90,17 @@ def _scale_radiation_history(f: h5py.File) -> None:
     scaled = 0
     for entry in header["arrays"]:
         count = int(np.prod(entry["shape"]))
+        start = data_start + entry["offset"]
         if np.dtype(entry["dtype"]).kind == "f" and count > 100:
-            start = data_start + entry["offset"]
             values = np.frombuffer(raw, dtype=entry["dtype"], count=count, offset=start)
             blob[start:start + entry["nbytes"]] = (values * 1000.0).astype(entry["dtype"]).tobytes()
             scaled += 1
+        elif np.dtype(entry["dtype"]) == np.uint8 and count > 800:  # the compiled runtime's state: float64 inside
+            values = np.frombuffer(raw, dtype="<f8", count=count // 8, offset=start).copy()
+            history = np.isfinite(values) & (np.abs(values) > 1e-12) & (np.abs(values) < 1e6)
+            values[history] *= 1000.0
+            blob[start:start + 8 * (count // 8)] = values.tobytes()
+            scaled += int(history.any())
     assert scaled, "no array to scale in the hydro state"
     del f["states/hydro"]
     f.create_dataset("states/hydro", data=np.void(bytes(blob)))
