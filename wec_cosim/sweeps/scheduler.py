@@ -76,8 +76,10 @@ def ctrl_c_interrupts() -> Iterator[None]:
     would not reach the sweep's code. The shutdown that follows (thousands of futures released, the cluster
     closed, the file recorded) runs in :func:`deaf_to_ctrl_c` blocks, so a second Ctrl-C does not cut it. The
     process does not start ignoring SIGINT at the first press: an interrupt raised inside a garbage-collector
-    callback or a ``__del__`` (Dask has both) is swallowed by Python ("Exception ignored in ..."), and a sweep that
-    then ignored every later Ctrl-C ran on. Outside the main thread nothing changes."""
+    callback or a ``__del__`` (Dask has both) is swallowed by Python ("Exception ignored in ..." and its traceback),
+    and a sweep that then ignored every later Ctrl-C ran on; a press that lands there is sent again 50 ms later
+    instead. Outside the main thread nothing changes."""
+    import os
     import signal
     import threading
 
@@ -85,7 +87,13 @@ def ctrl_c_interrupts() -> Iterator[None]:
         yield
         return
 
-    def interrupt(signum: int, frame: object) -> None:
+    def interrupt(signum: int, frame) -> None:  # noqa: ANN001
+        f = frame
+        while f is not None:  # inside a gc callback or a __del__ Python would swallow it: signal again shortly
+            if f.f_code.co_name == "__del__" or f.f_code.co_filename.replace("\\", "/").endswith("distributed/gc.py"):
+                threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+                return
+            f = f.f_back
         raise KeyboardInterrupt
 
     old = signal.signal(signal.SIGINT, interrupt)
