@@ -38,6 +38,7 @@ import h5py
 import numpy as np
 
 from .hdb import HydroDatabase, HydroDatabaseError
+from .hdf5_reading import CheckedFile
 
 EXCITATION_PARTS = "excitation_parts"  # HydroDatabase.extra key: why the Froude-Krylov/diffraction parts are absent
 
@@ -113,8 +114,10 @@ def read_bemio(path: str | Path) -> HydroDatabase:
         f = h5py.File(path, "r")
     except OSError as exc:
         raise HydroDatabaseError(f"{path} is not a readable HDF5 file ({exc})") from None
-    with f:
-        return _read(f, path)
+    checked = CheckedFile(f, path, "a BEMIO hydrodynamic database", HydroDatabaseError,
+                          fix="write the database again (BEMIO, Capytaine or `wec-cosim hydro`)")
+    with f, checked.guard():
+        return _read(f, path, checked)
 
 
 def read_wec_sim_groups(path: str | Path):
@@ -129,23 +132,21 @@ def read_wec_sim_groups(path: str | Path):
                                      lambda value, shape, what: _shaped(value, shape, Path(path), what))
 
 
-def _read(f: h5py.File, path: Path) -> HydroDatabase:
-    def need(group: h5py.Group | h5py.File, key: str) -> np.ndarray:
-        if key not in group:
-            raise HydroDatabaseError(f"{path}: missing dataset {group.name.rstrip('/')}/{key} (BEMIO layout)")
-        return np.asarray(group[key][()])
-
-    sp = f["simulation_parameters"] if "simulation_parameters" in f else None
-    if sp is None:
-        raise HydroDatabaseError(f"{path}: no /simulation_parameters group; not a BEMIO file")
-    w = need(sp, "w").astype(float).ravel()
-    headings = np.radians(need(sp, "wave_dir").astype(float).ravel())
-    depth = _scalar(need(sp, "water_depth"))
-    rho = _scalar(need(sp, "rho")) if "rho" in sp else 1000.0
-    g = _scalar(need(sp, "g")) if "g" in sp else 9.81
+def _read(f: h5py.File, path: Path, checked: CheckedFile) -> HydroDatabase:
+    need = checked.numbers  # every group and dataset checked before use (hydro_fmu.hdf5_reading)
+    if not checked.has(f, "simulation_parameters"):
+        raise HydroDatabaseError(f"{path}: /simulation_parameters is missing: not a BEMIO hydrodynamic database "
+                                 "(WEC-Sim's layout); give a BEMIO file as hydro.database")
+    sp = checked.group(f, "simulation_parameters")
+    w = need(sp, "w").ravel()
+    headings = np.radians(need(sp, "wave_dir").ravel())
+    depth = checked.scalar(sp, "water_depth")
+    rho = checked.scalar(sp, "rho") if checked.has(sp, "rho") else 1000.0
+    g = checked.scalar(sp, "g") if checked.has(sp, "g") else 9.81
     bodies = sorted((k for k in f if k.startswith("body") and k[4:].isdigit()), key=lambda k: int(k[4:]))
     if not bodies:
-        raise HydroDatabaseError(f"{path}: no /body<i> groups")
+        raise HydroDatabaseError(f"{path}: /body1 is missing (no /body<i> groups): a BEMIO database holds one group "
+                                 "per body; write the database again")
     nb, nw, nh = len(bodies), len(w), len(headings)
     n = 6 * nb
     A = np.zeros((nw, n, n))
@@ -158,41 +159,42 @@ def _read(f: h5py.File, path: Path) -> HydroDatabase:
     C = np.zeros((nb, 6, 6))
     cg, cb, vol, names = np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), []
     for b, key in enumerate(bodies):
-        grp = f[key]
-        props, hc = grp["properties"], grp["hydro_coeffs"]
-        dof = int(_scalar(need(props, "dof"))) if "dof" in props else 6
+        grp = checked.group(f, key)
+        props, hc = checked.group(grp, "properties"), checked.group(grp, "hydro_coeffs")
+        dof = int(checked.scalar(props, "dof")) if checked.has(props, "dof") else 6
         if dof != 6:
             raise HydroDatabaseError(
                 f"{path}: {key} has {dof} degrees of freedom; only rigid bodies (6) are supported"
             )
-        name = _text(need(props, "name"))
+        name = checked.text(props, "name").strip().rstrip("\x00")
         names.append(name if name not in names else f"{name}_{b + 1}")
-        cg[b] = need(props, "cg").ravel()[:3]
-        cb[b] = need(props, "cb").ravel()[:3]
-        vol[b] = _scalar(need(props, "disp_vol"))
+        cg[b] = _shaped(need(props, "cg", 3), (3,), path, f"{key} cg")
+        cb[b] = _shaped(need(props, "cb", 3), (3,), path, f"{key} cb")
+        vol[b] = checked.scalar(props, "disp_vol")
         rows = slice(6 * b, 6 * b + 6)
-        C[b] = _shaped(need(hc, "linear_restoring_stiffness"), (6, 6), path, f"{key} stiffness") * rho * g
+        am, rd = checked.group(hc, "added_mass"), checked.group(hc, "radiation_damping")
+        C[b] = _shaped(need(hc, "linear_restoring_stiffness", 36), (6, 6), path, f"{key} stiffness") * rho * g
         A[:, rows, :] = np.transpose(
-            _shaped(need(hc["added_mass"], "all"), (6, n, nw), path, f"{key} added_mass/all"), (2, 0, 1)) * rho
-        Ainf[rows, :] = _shaped(need(hc["added_mass"], "inf_freq"), (6, n), path, f"{key} inf_freq") * rho
+            _shaped(need(am, "all", 6 * n * nw), (6, n, nw), path, f"{key} added_mass/all"), (2, 0, 1)) * rho
+        Ainf[rows, :] = _shaped(need(am, "inf_freq", 6 * n), (6, n), path, f"{key} inf_freq") * rho
         B[:, rows, :] = np.transpose(
-            _shaped(need(hc["radiation_damping"], "all"), (6, n, nw), path, f"{key} radiation_damping/all"),
+            _shaped(need(rd, "all", 6 * n * nw), (6, n, nw), path, f"{key} radiation_damping/all"),
             (2, 0, 1)) * rho * w[:, None, None]
-        ex = hc["excitation"]
-        X[:, :, rows] = _read_complex(ex, path, key, (6, nh, nw)) * rho * g
+        ex = checked.group(hc, "excitation")
+        X[:, :, rows] = _read_complex(checked, ex, path, key, (6, nh, nw)) * rho * g
         for part, table in (("froude-krylov", FK), ("scattering", DF)):
-            if part not in ex or "re" not in ex[part]:
+            if not (checked.has(ex, part) and checked.has(checked.group(ex, part), "re")):
                 parts_note = parts_note or f"{path} has no {ex.name}/{part} group"
                 continue
-            table[:, :, rows] = _read_complex(ex[part], path, key, (6, nh, nw)) * rho * g
+            table[:, :, rows] = _read_complex(checked, checked.group(ex, part), path, key, (6, nh, nw)) * rho * g
             bad = int(np.sum(~np.isfinite(table[:, :, rows])))
             if bad:
                 parts_note = parts_note or (f"{path}: {ex.name}/{part} has {bad} non-finite values (BEMIO writes NaN "
                                             "where the BEM run did not compute a part)")
     order = np.argsort(w)
     code = ""
-    if "bem_data" in f and "code" in f["bem_data"]:
-        code = _text(f["bem_data"]["code"][()])
+    if checked.has(f, "bem_data") and checked.has(bem := checked.group(f, "bem_data"), "code"):
+        code = checked.text(bem, "code")
     return HydroDatabase(
         body_names=names,
         omega=w[order],
@@ -230,12 +232,11 @@ def _write_complex(group: h5py.Group, values: np.ndarray, scale: float, descript
     _dataset(group, "phase", np.angle(v), f"Phase of {description}", "rad")
 
 
-def _read_complex(group: h5py.Group, path: Path, key: str, shape: tuple[int, int, int]) -> np.ndarray:
-    for part in ("re", "im"):
-        if part not in group:
-            raise HydroDatabaseError(f"{path}: missing {group.name}/{part}")
-    re = _shaped(np.asarray(group["re"][()]), shape, path, f"{group.name}/re")
-    im = _shaped(np.asarray(group["im"][()]), shape, path, f"{group.name}/im")
+def _read_complex(checked: CheckedFile, group: h5py.Group, path: Path, key: str,
+                  shape: tuple[int, int, int]) -> np.ndarray:
+    size = int(np.prod(shape))
+    re = _shaped(checked.numbers(group, "re", size), shape, path, f"{group.name}/re")
+    im = _shaped(checked.numbers(group, "im", size), shape, path, f"{group.name}/im")
     return np.transpose(re + 1j * im, (1, 2, 0))
 
 
@@ -249,23 +250,3 @@ def _shaped(value: np.ndarray, shape: tuple[int, ...], path: Path, what: str) ->
     if value.size == int(np.prod(shape)) and 1 in value.shape:
         return value.reshape(shape)
     raise HydroDatabaseError(f"{path}: {what} has shape {value.shape}, expected {shape}")
-
-
-def _text(value: object) -> str:
-    """A string dataset's value: h5py gives bytes, str or an array of either (MATLAB writes (1, 1) arrays)."""
-    arr = np.asarray(value)
-    if arr.ndim and arr.size:
-        value = arr.ravel()[0]
-    elif arr.ndim == 0:
-        value = arr.item() if arr.dtype.kind != "O" else arr[()]
-    if isinstance(value, bytes):
-        value = value.decode(errors="replace")
-    return str(value).strip().rstrip("\x00")
-
-
-def _scalar(value: np.ndarray) -> float:
-    arr = np.asarray(value)
-    if arr.dtype.kind in "SUO":
-        text = _text(arr)
-        return float("inf") if text.lower() in ("inf", "infinite") else float(text)
-    return float(arr.ravel()[0])

@@ -26,6 +26,9 @@ from .hdb import HydroDatabaseError
 from .mesh_clip import clip_below
 
 NATIVE_FORMATS = (".obj", ".stl")
+MAX_MESH_FACES = 200_000  # triangles of a mesh file (counted before it is read; the wetted part is less)
+MAX_COORDINATE = 1e5  # m: a hull larger than 100 km is a file in other units (or broken)
+MAX_WETTED_PANELS = 60_000  # panels below the waterline that a BEM solve may be given
 
 
 @dataclass(frozen=True)
@@ -140,11 +143,47 @@ def triangulate(faces: list[list[int]] | np.ndarray) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- readers
+def mesh_face_count(path: str | Path) -> int | None:
+    """The number of faces of an ``.stl`` or ``.obj`` file, counted without reading the mesh (binary STL: its
+    header; ASCII STL: ``facet`` keywords; OBJ: ``f`` lines); None for other formats."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".stl":
+        with open(path, "rb") as f:
+            head = f.read(84)
+        if len(head) == 84 and path.stat().st_size == 84 + 50 * struct.unpack("<I", head[80:84])[0]:
+            return struct.unpack("<I", head[80:84])[0]
+        return _count_lines(path, (b"facet",))
+    if suffix == ".obj":
+        return _count_lines(path, (b"f ", b"f\t"))
+    return None
+
+
+def _count_lines(path: Path, starts: tuple[bytes, ...]) -> int:
+    count = 0
+    with open(path, "rb") as f:
+        for line in f:
+            if line.lstrip().lower().startswith(starts):
+                count += 1
+    return count
+
+
+def check_face_count(path: str | Path) -> None:
+    """Refuse a mesh file with more than :data:`MAX_MESH_FACES` faces before any work is done on it."""
+    n = mesh_face_count(path)
+    if n is not None and n > MAX_MESH_FACES:
+        raise HydroDatabaseError(
+            f"mesh file {path} has {n} faces, more than the {MAX_MESH_FACES} a hull mesh may have here (a BEM solve's "
+            "matrices are dense: N wetted panels need 32 N^2 bytes, 115 GB for 60000); coarsen the mesh")
+
+
 def read_mesh(path: str | Path) -> SurfaceMesh:
-    """Read a mesh file; ``.obj`` and ``.stl`` natively, other formats through Capytaine."""
+    """Read a mesh file; ``.obj`` and ``.stl`` natively, other formats through Capytaine. Files of more than
+    :data:`MAX_MESH_FACES` faces or with coordinates beyond :data:`MAX_COORDINATE` m are refused."""
     path = Path(path)
     if not path.is_file():
         raise HydroDatabaseError(f"mesh file {path} does not exist")
+    check_face_count(path)
     suffix = path.suffix.lower()
     try:
         if suffix == ".obj":
@@ -159,6 +198,13 @@ def read_mesh(path: str | Path) -> SurfaceMesh:
         raise HydroDatabaseError(f"cannot read mesh file {path}: {exc}") from None
     if mesh.n_faces == 0:
         raise HydroDatabaseError(f"mesh file {path} has no faces")
+    if mesh.n_faces > MAX_MESH_FACES:
+        raise HydroDatabaseError(f"mesh file {path} has {mesh.n_faces} faces, more than the {MAX_MESH_FACES} a hull "
+                                 "mesh may have here; coarsen the mesh")
+    largest = float(np.max(np.abs(mesh.vertices)))
+    if largest > MAX_COORDINATE:
+        raise HydroDatabaseError(f"mesh file {path} has coordinates up to {largest:.3g} m, beyond the "
+                                 f"{MAX_COORDINATE:g} m of any hull: check the file's units (metres) and contents")
     return mesh
 
 
@@ -207,6 +253,8 @@ def _read_stl(path: Path) -> SurfaceMesh:
 def _merge_vertices(corners: np.ndarray, name: str) -> SurfaceMesh:
     """Shared vertices from triangle soup (STL), merged to 1e-9 of the mesh size."""
     points = corners.reshape(-1, 3)
+    if not np.all(np.isfinite(points)):
+        raise HydroDatabaseError(f"mesh {name or '(unnamed)'}: non-finite vertex coordinates (NaN or infinity)")
     scale = max(float(np.ptp(points, axis=0).max()), 1e-12)
     keys = np.round(points / (1e-9 * scale)).astype(np.int64)
     unique, inverse = np.unique(keys, axis=0, return_inverse=True)
@@ -314,6 +362,10 @@ def check_mesh(mesh: SurfaceMesh, body: str, cg: np.ndarray | tuple[float, float
     if wet.n_faces == 0:
         report.errors.append("no panel lies below the waterline z = 0")
         return report
+    if wet.n_faces > MAX_WETTED_PANELS:
+        report.errors.append(f"{wet.n_faces} panels lie below the waterline, more than the {MAX_WETTED_PANELS} a BEM "
+                             "solve can take here; coarsen the mesh")
+        return report
     size = float(np.sqrt(np.median(wet.areas)))
     wetted = np.flatnonzero(mesh.corners[:, :, 2].min(axis=1) < 0)
     degenerate = wetted[mesh.areas[wetted] < 1e-10 * max(size**2, 1e-30)]
@@ -342,12 +394,16 @@ def check_mesh(mesh: SurfaceMesh, body: str, cg: np.ndarray | tuple[float, float
             "centre of buoyancy depend on the formula used (Capytaine averages them; the database and this check use "
             "the z form, which neither the missing waterplane nor openings in vertical faces affect: right where "
             "the body touches another one, wrong for a real hole)")
-    if volume <= 0:
+    holes = _open_edges_below_waterline(wet, tolerance=1e-6 * max(size, 1e-9))
+    if volume <= 0 and holes:
+        report.errors.append(
+            f"the mesh is open: {holes[0]} edges below the waterline belong to one panel only (holes), e.g. at "
+            f"{_fmt(holes[1])}, and the surface encloses no volume ({volume:.4g} m^3); give a closed hull surface")
+    elif volume <= 0:
         report.errors.append(
             f"the enclosed volume is {volume:.4g} m^3: the panel normals point into the body; reverse the "
             "vertex order of the faces")
-    holes = _open_edges_below_waterline(wet, tolerance=1e-6 * max(size, 1e-9))
-    if holes:
+    elif holes:
         report.warnings.append(f"the wetted surface has {holes[0]} open edges below the waterline (holes), "
                                f"e.g. at {_fmt(holes[1])}")
     offset = np.hypot(cb[0] - cg[0], cb[1] - cg[1])
@@ -366,22 +422,49 @@ def _divergence_volumes(mesh: SurfaceMesh) -> np.ndarray:
     return np.sum(centres * mesh.area_vectors, axis=0)
 
 
+def near_pairs(centres: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (i < j) of panels whose bounding spheres (centre, circumradius) intersect: |c_i - c_j| < r_i + r_j.
+
+    Panels are grouped by size (radius classes a factor 2 apart) and each pair of groups is searched with a k-d
+    tree at the largest radius of those two groups only: one large panel among many small ones makes a few
+    candidates, not all pairs (a single search at twice the largest radius would be quadratic)."""
+    from scipy.spatial import cKDTree
+
+    n = len(centres)
+    if n < 2:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    tiny = max(float(radius.max()), 1e-300) * 1e-12
+    size_class = np.floor(np.log2(np.maximum(radius, tiny))).astype(np.int64)
+    groups = [np.flatnonzero(size_class == k) for k in np.unique(size_class)]
+    trees = [cKDTree(centres[g]) for g in groups]
+    largest = [float(radius[g].max()) for g in groups]
+    out_i, out_j = [], []
+    for a, (ga, ta) in enumerate(zip(groups, trees, strict=True)):
+        pairs = ta.query_pairs(2 * largest[a], output_type="ndarray")
+        out_i.append(ga[pairs[:, 0]])
+        out_j.append(ga[pairs[:, 1]])
+        for b in range(a + 1, len(groups)):
+            found = ta.query_ball_tree(trees[b], largest[a] + largest[b])
+            counts = np.fromiter((len(x) for x in found), dtype=np.int64, count=len(found))
+            if counts.sum():
+                out_i.append(np.repeat(ga, counts))
+                out_j.append(groups[b][np.concatenate([np.asarray(x, dtype=np.int64) for x in found if x])])
+    i, j = np.concatenate(out_i), np.concatenate(out_j)
+    close = np.linalg.norm(centres[i] - centres[j], axis=1) < radius[i] + radius[j]
+    i, j = i[close], j[close]
+    return np.minimum(i, j), np.maximum(i, j)
+
+
 def centres_on_other_panels(mesh: SurfaceMesh, tolerance: float = 1e-6) -> np.ndarray:
     """Pairs (i, j): the centre of triangle i lies on triangle j (i != j), within ``tolerance``
     times j's size. A BEM collocation point on another panel makes the Green function singular."""
-    from scipy.spatial import cKDTree
-
     c = mesh.corners
     if len(c) < 2:
         return np.zeros((0, 2), dtype=int)
     centres = c.mean(axis=1)
     radius = np.max(np.linalg.norm(c - centres[:, None, :], axis=2), axis=1)
-    tree = cKDTree(centres)
-    lists = tree.query_ball_point(centres, float(radius.max()) * (1 + 1e-9))
-    i = np.repeat(np.arange(len(c)), [len(x) for x in lists])
-    j = np.concatenate([np.asarray(x, dtype=int) for x in lists])
-    keep = i != j
-    i, j = i[keep], j[keep]
+    a_, b_ = near_pairs(centres, radius * (1 + 1e-9))
+    i, j = np.concatenate([a_, b_]), np.concatenate([b_, a_])
     p = centres[i]
     a, b, d = c[j, 0], c[j, 1], c[j, 2]
     normal = np.cross(b - a, d - a)
@@ -406,13 +489,13 @@ def overlapping_coplanar_pairs(mesh: SurfaceMesh, *, angle_tol: float = 1e-6,
                                distance_tol: float = 1e-6, area_fraction: float = 1e-6) -> np.ndarray:
     """Pairs (i, j) of triangles that lie in one plane and overlap with positive area.
 
-    Candidates come from a k-d tree on the centres (within the sum of circumradii); a pair is
-    kept when the normals are parallel or antiparallel to ``angle_tol``, the planes coincide to
-    ``distance_tol`` times the panel size and the intersection of the two triangles (convex
-    clipping in the plane) exceeds ``area_fraction`` of the smaller one.
+    Candidates are the pairs whose bounding spheres intersect (:func:`near_pairs`); a pair is kept when the
+    normals are parallel or antiparallel to ``angle_tol`` and the planes coincide to ``distance_tol`` times the
+    panel size. In the common plane a separating-axis test over the six edge normals (vectorised) drops the
+    pairs that only touch (neighbours sharing an edge or a corner: every panel of a flat plate); the few left
+    are clipped exactly (Sutherland-Hodgman) and kept when the intersection exceeds ``area_fraction`` of the
+    smaller triangle. Cost: a k-d tree search and array operations, O(F log F) for F panels of similar sizes.
     """
-    from scipy.spatial import cKDTree
-
     c = mesh.corners
     if len(c) < 2:
         return np.zeros((0, 2), dtype=int)
@@ -423,22 +506,43 @@ def overlapping_coplanar_pairs(mesh: SurfaceMesh, *, angle_tol: float = 1e-6,
     ok = areas > 0
     normals = np.zeros_like(area_vec)
     normals[ok] = area_vec[ok] / areas[ok, None]
-    tree = cKDTree(centres)
-    candidates = tree.query_pairs(2 * float(radius.max()), output_type="ndarray")
-    if len(candidates) == 0:
+    i, j = near_pairs(centres, radius)
+    if len(i) == 0:
         return np.zeros((0, 2), dtype=int)
-    i, j = candidates[:, 0], candidates[:, 1]
     keep = ok[i] & ok[j]
-    keep &= np.linalg.norm(centres[i] - centres[j], axis=1) < radius[i] + radius[j]
     keep &= np.abs(np.abs(np.einsum("ij,ij->i", normals[i], normals[j])) - 1.0) < angle_tol
     scale = np.maximum(radius[i], radius[j])
     keep &= np.abs(np.einsum("ij,ij->i", normals[i], centres[j] - centres[i])) < distance_tol * scale + 1e-12
+    i, j = i[keep], j[keep]
+    apart = _separated_in_plane(c[i], c[j], normals[i], 1e-9 * scale[keep])
+    i, j = i[~apart], j[~apart]
     out = []
-    for a, b in zip(i[keep], j[keep], strict=True):
+    for a, b in zip(i, j, strict=True):
         overlap = _coplanar_overlap_area(c[a], c[b], normals[a])
         if overlap > area_fraction * min(areas[a], areas[b]):
             out.append((a, b))
     return np.array(out, dtype=int).reshape(-1, 2)
+
+
+def _separated_in_plane(t1: np.ndarray, t2: np.ndarray, normal: np.ndarray, tol: np.ndarray) -> np.ndarray:
+    """For pairs of coplanar triangles (P, 3, 3) with the plane's unit normal (P, 3): whether an edge normal of
+    either triangle separates them (their projections on it overlap by at most ``tol``: apart or touching)."""
+    u = t1[:, 1] - t1[:, 0]
+    u /= np.maximum(np.sqrt((u * u).sum(axis=1)), 1e-300)[:, None]
+    w = np.cross(normal, u)
+    d1, d2 = t1 - t1[:, :1], t2 - t1[:, :1]
+    px, py = (d1 * u[:, None]).sum(axis=2), (d1 * w[:, None]).sum(axis=2)  # (P, 3) plane coordinates
+    qx, qy = (d2 * u[:, None]).sum(axis=2), (d2 * w[:, None]).sum(axis=2)
+    apart = np.zeros(len(t1), dtype=bool)
+    for x, y in ((px, py), (qx, qy)):
+        for k in range(3):
+            ax, ay = y[:, k] - y[:, (k + 1) % 3], x[:, (k + 1) % 3] - x[:, k]
+            length = np.maximum(np.hypot(ax, ay), 1e-300)
+            a = (px * ax[:, None] + py * ay[:, None]) / length[:, None]
+            b = (qx * ax[:, None] + qy * ay[:, None]) / length[:, None]
+            depth = np.minimum(a.max(axis=1), b.max(axis=1)) - np.maximum(a.min(axis=1), b.min(axis=1))
+            apart |= depth <= tol
+    return apart
 
 
 def _coplanar_overlap_area(t1: np.ndarray, t2: np.ndarray, normal: np.ndarray) -> float:

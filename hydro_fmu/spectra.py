@@ -151,6 +151,18 @@ def discretise(spectrum: Spectrum, d: Discretisation) -> tuple[np.ndarray, np.nd
     return omega, amplitude, rng
 
 
+def held_variance(spectrum: Spectrum, d: Discretisation) -> float:
+    """The variance of the discretised components over the spectrum's variance in ``[omega_min, omega_max]``
+    (1 for a discretisation that keeps the sea's energy; equal energy keeps it by construction). An equal-frequency
+    step 2 pi / repeat_period wider than the spectrum's peak leaves few or no components: 0 is still water."""
+    w = np.linspace(max(d.omega_min, 1e-9), d.omega_max, 20_001)
+    m0 = float(np.trapezoid(spectrum(w), w))
+    if m0 <= 0:
+        return 1.0
+    _, amplitude, _ = discretise(spectrum, d)
+    return float(np.sum(amplitude**2) / 2 / m0)
+
+
 def spreading_directions(s: float, n: int, heading: float) -> np.ndarray:
     """``n`` equal-weight directions (rad) of the cos-2s distribution about ``heading``.
 

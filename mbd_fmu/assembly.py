@@ -20,6 +20,8 @@ from scipy.linalg import qr
 
 from .kinematics import Pose
 from .model import MultibodyModel
+from .rotations import log_so3
+from .spec_checks import ModelError, assembly_note, assembly_problem
 
 
 @dataclass
@@ -31,6 +33,7 @@ class MobilityReport:
     rank: int
     kept: np.ndarray
     redundant: list[str] = field(default_factory=list)
+    note: str = ""  # the assembly's correction of the start pose, when more than round-off
 
     @property
     def dof(self) -> int:
@@ -101,10 +104,13 @@ def assemble(
         if ev.phi.size == 0 or np.max(np.abs(ev.phi)) <= tol * scale:
             break
         c = ev.jac
+        if not (np.all(np.isfinite(ev.phi)) and np.all(np.isfinite(c))):  # before LAPACK sees them
+            raise ModelError("assembly failed: the constraint equations are not finite at the start pose; check the "
+                             "bodies' positions, the joint positions and axes")
         delta = -w_inv @ c.T @ np.linalg.lstsq(c @ w_inv @ c.T, ev.phi, rcond=None)[0]
         pose = pose.retract(model.full(delta))
     else:
-        raise ValueError(
+        raise ModelError(
             f"assembly did not converge: constraint violation {np.max(np.abs(ev.phi)):.3g} after {max_iter} "
             "iterations; the initial poses are too far from a configuration the joints allow")
     ev = model.constraint(model.kin(pose, v, t), gamma=False)
@@ -113,3 +119,39 @@ def assemble(
         v = v - w_inv @ c.T @ np.linalg.lstsq(c @ w_inv @ c.T, c @ v - ev.rhs_v, rcond=None)[0]
     moved = float(np.max(np.abs(model.displacement(pose) - model.displacement(start)))) if model.N else 0.0
     return pose, v, moved
+
+
+def body_moves(model: MultibodyModel, before: Pose, after: Pose) -> dict[str, tuple[float, float]]:
+    """How far a change of pose moved each body: name -> (translation of the cg in m, rotation angle in rad)."""
+    out = {}
+    for i, b in enumerate(model.bodies):
+        turn = log_so3((after.R[i] @ before.R[i].T)[None])[0]
+        out[b.name] = (float(np.linalg.norm(after.r[i] - before.r[i])), float(np.linalg.norm(turn)))
+    return out
+
+
+def check_start(model: MultibodyModel, given: Pose, assembled: Pose, t: float = 0.0) -> str:
+    """Refuse (:class:`ModelError`) a start pose that the assembly had to move beyond the tolerance of
+    :func:`mbd_fmu.spec_checks.assembly_problem`, and drivers that prescribe a coordinate the joints already fix
+    (a driver must add one to the rank of the constraint Jacobian at the assembled pose). Returns the line that
+    reports a correction within the tolerance ("" for round-off)."""
+    if not model.N:
+        return ""
+    moves = body_moves(model, given, assembled)
+    scale = max(1.0, float(np.max(np.abs(model.cg))))
+    problem = assembly_problem(moves, scale)
+    if problem:
+        raise ModelError(problem)
+    if model.drivers:
+        k = model.kin(assembled, np.zeros(model.n), t)
+        _, jf, _, _ = model.constraint_full(k, gamma=False)
+        c = jf[:, model.sel]
+        rank = independent_rows(c[: model.m_primitive])[2] if model.m_primitive else 0
+        for j, d in enumerate(model.drivers):
+            rows = np.concatenate([np.arange(model.m_primitive), [model.m_primitive + j]])
+            if independent_rows(c[rows])[2] <= rank:
+                raise ModelError(
+                    f"driver {d.name!r} prescribes a coordinate that the joints already fix (its constraint adds "
+                    "nothing to the joints' rank at the start pose): no motion can follow it; remove the driver, or "
+                    "the joint or lock that holds the coordinate")
+    return assembly_note(moves, scale) or ""

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .spec_checks import ModelError, inertia_problem
+
 DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 
 
@@ -39,18 +41,19 @@ class RigidBody:
         object.__setattr__(self, "inertia", inertia)
         object.__setattr__(self, "cg", np.asarray(self.cg, dtype=float).reshape(3))
         if not (self.mass > 0 and np.isfinite(self.mass)):
-            raise ValueError(f"body {self.name!r}: mass must be positive (got {self.mass})")
+            raise ModelError(f"body {self.name!r}: mass must be positive (got {self.mass})")
         if not np.allclose(inertia, inertia.T, rtol=1e-12, atol=0):
-            raise ValueError(f"body {self.name!r}: inertia tensor is not symmetric")
+            raise ModelError(f"body {self.name!r}: inertia tensor is not symmetric")
         if not np.all(np.isfinite(inertia)) or not np.all(np.isfinite(self.cg)):
-            raise ValueError(f"body {self.name!r}: inertia and cg must be finite numbers")
+            raise ModelError(f"body {self.name!r}: inertia and cg must be finite numbers")
         rotational = [d for d in self.dofs if d >= 3]
         if self.point_mass and rotational:
-            raise ValueError(f"body {self.name!r}: a point mass has no rotational degrees of freedom")
-        if rotational and np.any(np.linalg.eigvalsh(inertia) <= 0):
-            raise ValueError(f"body {self.name!r}: inertia tensor must be positive definite for rotations")
+            raise ModelError(f"body {self.name!r}: a point mass has no rotational degrees of freedom")
+        problem = inertia_problem(inertia) if rotational else None
+        if problem:
+            raise ModelError(f"body {self.name!r}: {problem}")
         if list(self.dofs) != sorted(set(self.dofs)) or not set(self.dofs) <= set(range(6)):
-            raise ValueError(f"body {self.name!r}: dofs must be increasing indices in 0..5 (got {self.dofs})")
+            raise ModelError(f"body {self.name!r}: dofs must be increasing indices in 0..5 (got {self.dofs})")
 
     def mass_matrix(self) -> np.ndarray:
         """6x6 rigid-body mass matrix about the centre of gravity."""

@@ -35,6 +35,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .coordinates import Angle, Coordinate, Distance, RotationComponent, Slide
+from .spec_checks import ModelError, direction, distance_problem, universal_axes_problem
 
 JOINT_KINDS = ("fixed", "revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "distance")
 JOINT_DOF = {"fixed": 0, "revolute": 1, "prismatic": 1, "cylindrical": 2, "universal": 2, "spherical": 3,
@@ -56,12 +57,10 @@ JOINT_COORDINATE_NAMES = {
 
 def joint_frame(axis, axis2=None) -> np.ndarray:
     """Orthonormal frame (columns x, y, z) with z along ``axis`` and x along ``axis2`` projected."""
-    z = np.asarray(axis, dtype=float)
-    if not np.all(np.isfinite(z)) or np.linalg.norm(z) == 0:
-        raise ValueError(f"joint axis must be a finite non-zero vector (got {list(z)})")
-    z = z / np.linalg.norm(z)
-    if axis2 is not None and np.linalg.norm(np.cross(z, axis2)) > 1e-9:
-        x = np.asarray(axis2, dtype=float) - (np.asarray(axis2, dtype=float) @ z) * z
+    z = direction(axis, "joint axis")
+    x2 = direction(axis2, "joint axis2") if axis2 is not None else None
+    if x2 is not None and np.linalg.norm(np.cross(z, x2)) > 1e-9:
+        x = x2 - (x2 @ z) * z
     else:
         trial = np.eye(3)[int(np.argmin(np.abs(z)))]
         x = trial - (trial @ z) * z
@@ -94,18 +93,25 @@ class Joint:
 
     def __post_init__(self) -> None:
         if self.kind not in JOINT_KINDS:
-            raise ValueError(
+            raise ModelError(
                 f"joint {self.name!r}: unknown kind {self.kind!r}; expected one of {', '.join(JOINT_KINDS)}")
         if self.body1 == self.body2:
-            raise ValueError(f"joint {self.name!r}: body1 and body2 are the same body {self.body2!r}")
+            raise ModelError(f"joint {self.name!r}: body1 and body2 are the same body {self.body2!r}")
         if not np.all(np.isfinite(self.position)):
-            raise ValueError(f"joint {self.name!r}: position must be finite")
+            raise ModelError(f"joint {self.name!r}: position must be finite")
         if self.kind == "distance" and self.position2 is None:
-            raise ValueError(f"joint {self.name!r}: a distance joint needs position2 (the point on body 2)")
-        if self.kind == "universal" and self.axis2 is not None:
-            if abs(np.dot(self.axis, self.axis2)) > 1e-9 * np.linalg.norm(self.axis) * np.linalg.norm(self.axis2):
-                raise ValueError(f"joint {self.name!r}: the two axes of a universal joint must be perpendicular")
-        joint_frame(self.axis, self.axis2)
+            raise ModelError(f"joint {self.name!r}: a distance joint needs position2 (the point on body 2)")
+        try:
+            joint_frame(self.axis, self.axis2)
+            problem = None
+            if self.kind == "universal" and self.axis2 is not None:
+                problem = universal_axes_problem(self.axis, self.axis2)
+            if self.kind == "distance":
+                problem = distance_problem(self.position, self.position2)
+        except ModelError as exc:
+            problem = str(exc)
+        if problem:
+            raise ModelError(f"joint {self.name!r}: {problem}")
 
 
 @dataclass

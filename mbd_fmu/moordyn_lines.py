@@ -244,7 +244,10 @@ class MoorDynSystem:
             self.bodies = np.array([ln.body for ln in lines], dtype=int)
         n = len(self.bodies)
         self.end_tensions = np.zeros((0, 2))  # tension at end A and end B of every line (N), last accepted state
+        # MoorDyn's input file: the user's file (from the scenario) or written by moordyn_input from the lines;
+        # never read from a state
         self.text = ""
+        self.start_fairleads = np.zeros((n, 3))  # fairleads at the start (coupled points of the input file)
         self.t = math.nan  # time of the last accepted state
         self.t_prev = math.nan
         self.x = np.zeros((n, 3))  # fairleads at t
@@ -270,6 +273,7 @@ class MoorDynSystem:
         if self.started:
             return
         x, _ = self.fairleads(k)
+        self.start_fairleads = x.copy()
         self.text = self.file_text or moordyn_input(self.lines, self.settings, x)
         instance = _Instance(self.text, x.ravel(), np.zeros(x.size), compute_ic=True)
         self._adopt(instance)
@@ -354,6 +358,11 @@ class MoorDynSystem:
             return instance
         if owner is not None and owner._snapshot is None:
             owner._snapshot = moordyn.Serialize(instance.system)
+        expected = len(owner._snapshot) if owner is not None else len(moordyn.Serialize(instance.system))
+        if self._snapshot is None or len(self._snapshot) != expected:  # checked before MoorDyn reads it
+            raise MoorDynError(
+                f"the saved MoorDyn state has {len(self._snapshot or b'')} bytes where these lines' state has "
+                f"{expected}: the state is damaged or belongs to other mooring lines")
         moordyn.Deserialize(instance.system, self._snapshot)
         instance.owner = weakref.ref(self)
         self._snapshot = None
@@ -379,9 +388,12 @@ class MoorDynSystem:
         return new
 
     def __getstate__(self) -> dict:
-        """Plain data: line and solver settings (as dicts), fairleads, forces, times (numbers, arrays), the
-        input file text and MoorDyn's serialised state as a uint8 array."""
-        state = {k: v for k, v in self.__dict__.items() if k not in ("_instance", "_snapshot", "lines", "settings")}
+        """Plain data: line and solver settings (as dicts), fairleads, forces, times (numbers, arrays) and
+        MoorDyn's serialised state as a uint8 array. Not the input file's text: it is written again from the
+        lines, or is the user's input file, which a state restored into a model must match
+        (:meth:`__setstate__`), so a state cannot choose what MoorDyn reads."""
+        state = {k: v for k, v in self.__dict__.items()
+                 if k not in ("_instance", "_snapshot", "lines", "settings", "text")}
         state["lines"] = [dataclasses.asdict(ln) for ln in self.lines]  # dicts, not objects: data only
         state["settings"] = dataclasses.asdict(self.settings)
         state["moordyn_state"] = np.frombuffer(self.serialized(), dtype=np.uint8).copy()
@@ -392,17 +404,38 @@ class MoorDynSystem:
         instance is kept and the state loaded into it when this object is used; otherwise a new instance is
         created then."""
         state = dict(state)
+        state.pop("text", None)
         state.setdefault("file_text", "")  # states saved before MoorDyn input files were read
         state.setdefault("end_tensions", np.zeros((0, 2)))
         snapshot = bytes(np.asarray(state.pop("moordyn_state"), dtype=np.uint8))
-        state["lines"] = [LineSpec(**d) for d in state["lines"]]
-        state["settings"] = MoorDynSettings(**state["settings"])
+        try:
+            lines = [LineSpec(**d) for d in state["lines"]]
+            settings = MoorDynSettings(**state["settings"])
+            start = np.asarray(state.get("start_fairleads", np.zeros((len(lines), 3))), dtype=float).reshape(-1, 3)
+        except (TypeError, ValueError, KeyError) as exc:
+            raise MoorDynError(f"the saved mooring-line state is not one of these lines ({exc})") from None
+        own_file = self.__dict__.get("file_text", "")
+        if self.__dict__.get("lines") is not None and not (
+                _same(lines, self.lines) and settings == self.settings and state["file_text"] == own_file):
+            raise MoorDynError("the saved mooring-line state belongs to other lines, another MoorDyn input file "
+                               "or other MoorDyn settings than this model's")
+        state["lines"], state["settings"], state["start_fairleads"] = lines, settings, start
+        started = not math.isnan(float(state.get("t", math.nan)))
+        state["text"] = (state["file_text"] or moordyn_input(lines, settings, start)) if started else ""
         instance = self.__dict__.get("_instance")
         self.__dict__.update(state)
         if instance is not None and instance.owner is not None and instance.owner() is self:
             instance.owner = None  # this object's old state in the instance is stale now
         self._instance = instance
         self._snapshot = snapshot or None
+
+
+def _same(a: list[LineSpec], b: list[LineSpec]) -> bool:
+    """Whether two lists of lines are the same lines (arrays compared by value)."""
+    return len(a) == len(b) and all(
+        all(np.array_equal(np.asarray(x), np.asarray(y)) for x, y in zip(dataclasses.astuple(p), dataclasses.astuple(q),
+                                                                          strict=True))
+        for p, q in zip(a, b, strict=True))
 
 
 @dataclass

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from . import kernels
-from .assembly import MobilityReport, analyse, assemble
+from .assembly import MobilityReport, analyse, assemble, check_start
 from .force_elements import CoordinateSpringDamper
 from .formulations import Index3, Settings, make_formulation
 from .kinematics import Pose
@@ -60,8 +60,11 @@ class MultibodySimulator:
     def start(self, pose: Pose, v: np.ndarray, t: float = 0.0, inputs: np.ndarray | None = None) -> float:
         """Analyse mobility, assemble a consistent state and initialise; returns the assembly correction."""
         self.report = analyse(self.model, pose, t)
+        given = pose
         pose, v, moved = assemble(self.model, pose, np.asarray(v, float), t)
+        note = check_start(self.model, given, pose, t)
         self.report = analyse(self.model, pose, t)
+        self.report.note = note
         k = self.model.kin(pose, v, t)
         for e in self.model.elements:
             e.start(k)

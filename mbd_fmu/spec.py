@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .assembly import MobilityReport, analyse, assemble
+from .assembly import MobilityReport, analyse, assemble, check_start
 from .bodies import RigidBody
 from .coordinates import Coordinate, Distance, RotationComponent, Slide
 from .force_elements import CoordinateSpringDamper, CoulombFriction, ForceElement, PtoLaw, Rope
@@ -205,8 +205,12 @@ def mobility_report(spec: dict[str, Any]) -> MobilityReport:
     model, _ = build_model(spec)
     pose, v6 = initial_pose(spec)
     v = np.array([v6[model.index(b), d] for b, d in model.coordinates])
+    given = pose
     pose, _, _ = assemble(model, pose, v, 0.0)
-    return analyse(model, pose, 0.0)
+    note = check_start(model, given, pose, 0.0)
+    report = analyse(model, pose, 0.0)
+    report.note = note
+    return report
 
 
 def build_simulator(spec: dict[str, Any], added_mass: np.ndarray | None = None) -> MultibodySimulator:

@@ -17,7 +17,9 @@ status 2; nothing already computed is lost.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import os
 import shutil
 import sys
 import typing
@@ -402,15 +404,52 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
+    hooks = sys.unraisablehook, sys.excepthook
+    sys.unraisablehook, sys.excepthook = _quiet_hdf5_dealloc, _quiet_hdf5_traceback
+    with _numerical_warnings() as failed:
+        try:
+            code = _run(args)
+            if code != 0:
+                failed.append(True)
+        except BaseException:
+            failed.append(True)
+            raise
+        finally:
+            sys.unraisablehook, sys.excepthook = hooks
+        return code
+
+
+@contextlib.contextmanager
+def _numerical_warnings() -> typing.Iterator[list]:
+    """numpy's floating-point warnings ("overflow encountered in ...") of a command that then fails are the
+    failure's symptoms, not news: they are dropped so that the error is the one paragraph the user reads; the
+    warnings of a command that succeeds are shown as they were. Other warnings are always shown."""
+    import warnings
+
+    failed: list = []
+    with warnings.catch_warnings(record=True) as caught:  # the filters in force stay as they are
+        yield failed
+    for w in caught:
+        numerical = issubclass(w.category, RuntimeWarning) and (
+            "encountered in" in str(w.message) or "/numpy/" in w.filename.replace("\\", "/"))
+        if failed and numerical:
+            continue
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+
+
+def _run(args: argparse.Namespace) -> int:
     try:
         return args.func(args)
     except (WecCosimError, HydroDatabaseError) as exc:
         print(f"wec-cosim {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except OSError as exc:  # the machine's limits: disk full, permissions, file-size limit
-        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
-        print(f"wec-cosim {args.command}: error: {exc.strerror or exc}{where}; free space or choose another output "
-              "path (nothing computed before the error is lost)", file=sys.stderr)
+        print(f"wec-cosim {args.command}: error: {machine_limit(exc)}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:  # h5py reports some refused writes (closing a file on a full disk) this way
+        if "file write failed" not in str(exc):
+            raise
+        print(f"wec-cosim {args.command}: error: {machine_limit(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
         print(f"wec-cosim {args.command}: error: out of memory; reduce the scenario's sizes (duration/step, "
@@ -422,10 +461,99 @@ def main(argv: list[str] | None = None) -> int:
         return 130
 
 
+def machine_limit(exc: OSError | RuntimeError) -> str:
+    """One paragraph for an error of the machine's limits: the operating system's reason (not HDF5's long report),
+    the file, and the fix (a file-size limit is named as such, a temporary folder as TMPDIR)."""
+    import errno
+    import resource
+    import tempfile
+
+    from orchestrator.results.results_file import write_error
+
+    if "file write failed" in str(exc) or "errno =" in str(exc):  # HDF5's report: errno and reason inside it
+        exc = write_error(exc, getattr(exc, "filename", None) or _hdf5_file(str(exc)))
+    reason = exc.strerror or " ".join(str(exc).split())
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    where = f" ({exc.filename})" if exc.filename else ""
+    if limit != resource.RLIM_INFINITY and (exc.errno == errno.EFBIG or "No usable temporary directory" in reason
+                                            or limit < 1 << 20):
+        return (f"{reason}{where}: this process may write files of at most {limit} bytes (the shell's file-size "
+                "limit, `ulimit -f`); raise it (`ulimit -f unlimited`) and run again (nothing computed before the "
+                "error is lost)")
+    if "No usable temporary directory" in reason or (exc.filename and str(exc.filename).startswith(
+            tempfile.gettempdir())):
+        return (f"{reason}{where}: the temporary folder {tempfile.gettempdir()} cannot take the files a run writes "
+                "there (FMUs, the database they carry); free space there or set TMPDIR to a folder with room")
+    return f"{reason}{where}; free space or choose another output path (nothing computed before the error is lost)"
+
+
+def _hdf5_file(text: str) -> str:
+    import re
+
+    found = re.search(r"filename = '([^']*)'", text)
+    return found.group(1) if found else ""
+
+
+def _hdf5_release_failure(exc: BaseException | None) -> bool:
+    return isinstance(exc, RuntimeError) and "decrement id ref count" in str(exc)
+
+
+def _quiet_hdf5_dealloc(unraisable: sys.UnraisableHookArgs) -> None:
+    """h5py reports each object it could not release after a failed write (a full disk) as a traceback and an
+    "Exception ignored" block of several lines; the command reports the failure itself, once."""
+    if _hdf5_release_failure(unraisable.exc_value):
+        return
+    sys.__unraisablehook__(unraisable)
+
+
+def _quiet_hdf5_traceback(kind: type, value: BaseException, tb: object) -> None:
+    """The traceback half of h5py's report of an object it could not release (printed through sys.excepthook)."""
+    if _hdf5_release_failure(value):
+        return
+    sys.__excepthook__(kind, value, tb)
+
+
+def console() -> None:
+    """The ``wec-cosim`` console script: :func:`main`, then the process's exit.
+
+    After a write failed on a full disk HDF5 may still hold objects of a file it could not close; its exit
+    handler (``H5_term_library``) then closes them and crashes in ``H5D_close`` (a segmentation fault after
+    the clean message; found with gdb, not PythonFMU). When HDF5 still holds any file, dataset, group or
+    attribute at the end, the process ends without the exit handlers (output flushed first). A file-size limit
+    is reported as a failed write, not as the signal that would end the process silently."""
+    import signal
+
+    sys.unraisablehook, sys.excepthook = _quiet_hdf5_dealloc, _quiet_hdf5_traceback
+    # a file-size limit (`ulimit -f`) kills the process at the first write past it (SIGXFSZ) before it can say
+    # why; ignored, the write fails with EFBIG and the limit is named (machine_limit)
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    try:
+        code = main()
+    except SystemExit as exc:  # argparse: --help, or an option error already printed
+        code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except BaseException:  # noqa: BLE001 - a bug: its traceback, then the same safe exit
+        import traceback
+
+        traceback.print_exc()
+        code = 1
+    h5py = sys.modules.get("h5py")
+    if h5py is not None:
+        f = h5py.h5f
+        try:
+            held = f.get_obj_count(f.OBJ_ALL, f.OBJ_FILE | f.OBJ_DATASET | f.OBJ_GROUP | f.OBJ_ATTR)
+        except Exception:  # noqa: BLE001 - HDF5 in a state that cannot even count: do not run its exit handler
+            held = 1
+        if held:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(code)
+    sys.exit(code)
+
+
 def _one_line(exc: BaseException) -> str:
     """One paragraph: messages that quote multi-line text keep it on one line."""
     return " ".join(str(exc).split("\n"))
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console()

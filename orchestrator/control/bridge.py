@@ -17,6 +17,13 @@ a ``stale_step``, ``non_finite`` values or values ``out_of_limits`` - trigger th
 fallback for that control period: ``hold`` the last valid command, ``passive`` damping (the
 configured damping, zero stiffness and force), or ``stop`` the run (a :class:`MasterError`, the
 results so far kept). Every fault is counted; the counts go to the results file.
+
+Frames that answer nothing new are dropped and counted (``dropped_frames``), never acted on: a
+``duplicate`` of the answer already taken, a ``stale`` answer to an earlier step than the newest one
+held, and an answer to a ``future_step`` (measurements not yet published: its latency would be
+negative). In real time a faulty frame that arrives while a valid command younger than ``max_age`` is
+held is dropped and counted the same way: it does not override that command; the fallback applies
+only to a period without a valid command.
 """
 
 from __future__ import annotations
@@ -39,6 +46,9 @@ from .session import open_master
 FAULTS = ("absent", "late", "disconnected", "wrong_length", "wrong_version", "wrong_kind", "stale_step",
           "non_finite", "out_of_limits")
 SOURCES = {"controller": 0, "hold": 1, "passive": 2}
+# frames dropped without a fallback: those that answer nothing new, and faulty ones next to a held valid command
+DROPPED = ("duplicate", "stale", "future_step", "wrong_length", "wrong_version", "wrong_kind", "non_finite",
+           "out_of_limits")
 
 
 @dataclass(frozen=True)
@@ -79,6 +89,7 @@ class ControlStatistics:
     paced_steps: int = 0
     refused_controllers: int = 0
     refused_commands: int = 0
+    dropped_frames: dict[str, int] = field(default_factory=lambda: dict.fromkeys(DROPPED, 0))
 
     def summary(self) -> dict:
         lat = np.array(self.latencies)
@@ -86,7 +97,8 @@ class ControlStatistics:
                  "max": float(lat.max()), "count": int(lat.size)} if lat.size else {"count": 0}
         return {"faults": self.faults, "periods": self.periods, "fallback_periods": self.fallback_periods,
                 "latency_s": stats, "missed_deadlines": self.missed_deadlines, "paced_steps": self.paced_steps,
-                "refused_controllers": self.refused_controllers, "refused_commands": self.refused_commands}
+                "refused_controllers": self.refused_controllers, "refused_commands": self.refused_commands,
+                "dropped_frames": self.dropped_frames}
 
 
 class ControlBridge:
@@ -115,6 +127,8 @@ class ControlBridge:
         self._published: dict[int, float] = {}
         self._latest: protocol.Frame | None = None
         self._latest_arrival = math.nan
+        self._answered = -1  # lock-step: the last step whose answer was taken
+        self._last_published = -1  # the newest control step whose measurements were published
         self._wall_start: float | None = None
         self.owner: str | None = None  # id of the controller that drives the run
         self.session = None
@@ -166,6 +180,9 @@ class ControlBridge:
         except FrameError as exc:
             self._events.put((arrival, exc))
             return
+        if frame.step > self._last_published:  # answers measurements not published yet: judged on arrival
+            self.stats.dropped_frames["future_step"] += 1
+            return
         self._events.put((arrival, frame))
 
     def _on_liveliness(self, sample) -> None:  # noqa: ANN001
@@ -192,6 +209,7 @@ class ControlBridge:
         self.stats.periods += 1
         self._published[step] = time.perf_counter()
         self._published.pop(step - 1000, None)
+        self._last_published = step
         self._publisher.put(protocol.encode(MEASUREMENTS, step, t, list(map(float, measurements))))
         if self.settings.mode == "lockstep":
             decision = self._lockstep(step)
@@ -235,12 +253,17 @@ class ControlBridge:
                 return self._fallback("stale_step" if stale else "late", step)
             if isinstance(event, FrameError):
                 return self._fallback(event.fault, step)
-            if event.step != step:
-                stale = True  # an answer to another step (a late one, most likely): keep waiting
+            if event.step != step:  # dropped, counted; keep waiting for the answer to this step
+                if event.step > step:
+                    self.stats.dropped_frames["future_step"] += 1
+                else:
+                    self.stats.dropped_frames["duplicate" if event.step == self._answered else "stale"] += 1
+                    stale = True
                 continue
             fault = self._check(event)
             if fault is not None:
                 return self._fallback(fault, step)
+            self._answered = step
             self.last_valid = np.array(event.values)
             latency = arrival - self._published.get(step, arrival)
             self.stats.latencies.append(latency)
@@ -255,38 +278,49 @@ class ControlBridge:
                 return events
 
     def _realtime(self, step: int) -> Decision:
-        fault = None
+        faults: list[str] = []  # faulty frames of this period
         new_latency = math.nan
         for arrival, event in self._drain():
             if isinstance(event, FrameError):
-                fault = event.fault
+                if event.fault != "disconnected":  # the liveliness token decides that (below)
+                    faults.append(event.fault)
+                continue
+            if event.step > step:  # answers measurements not published yet
+                self.stats.dropped_frames["future_step"] += 1
                 continue
             if self._latest is not None and event.step <= self._latest.step:
-                fault = "stale_step"
+                self.stats.dropped_frames["duplicate" if event.step == self._latest.step else "stale"] += 1
                 continue
             problem = self._check(event)
             if problem is not None:
-                fault = problem
+                faults.append(problem)
                 continue
             self._latest, self._latest_arrival = event, arrival
             sent = self._published.get(event.step)
             if sent is not None:
                 new_latency = arrival - sent
                 self.stats.latencies.append(new_latency)
+        fault = faults[-1] if faults else None
         if self._latest is None:
             if fault is None and self._alive.is_set():
                 # Connected but no answer yet (the first instants): the initial commands stand.
                 return Decision(self.last_valid.copy(), SOURCES["hold"], None, math.nan)
+            self._drop(faults[:-1])
             return self._fallback(fault or ("disconnected" if self._ever_connected else "absent"), step)
         age = float(step - self._latest.step)
-        if fault is not None:
-            return self._fallback(fault, step, age)
         if not self._alive.is_set():
+            self._drop(faults)
             return self._fallback("disconnected", step, age)
         if age > self.settings.max_age:
-            return self._fallback("late", step, age)
+            self._drop(faults[:-1])
+            return self._fallback(fault or "late", step, age)
+        self._drop(faults)  # a valid command younger than max_age is held: faulty frames do not override it
         self.last_valid = np.array(self._latest.values)
         return Decision(self.last_valid.copy(), SOURCES["controller"], None, age, new_latency)
+
+    def _drop(self, faults: list[str]) -> None:
+        for fault in faults:
+            self.stats.dropped_frames[fault] += 1
 
     # ------------------------------------------------------------------ pacing
     def pace(self, t: float) -> None:

@@ -10,6 +10,8 @@
 The controller connects to the master, reads the manifest, declares its liveliness token, and
 answers every measurement frame with a command frame for the same step. Commands not returned
 by the law keep their previous value (initially the manifest's defaults, the scenario's values).
+A name the run does not command (a PTO that does not exist) or a value that is not a number stops the
+controller: :meth:`Controller.run` raises ValueError naming it (the master then falls back).
 :meth:`Controller.run` returns when the master publishes the end of the run.
 """
 
@@ -59,6 +61,7 @@ class Controller:
         self.ended = False  # the master announced the end of the run
         self.announced = False  # our liveliness token is declared
         self.state = {}  # free for laws that keep memory between steps
+        self.error: Exception | None = None  # what stopped the law (raised by run())
 
     @property
     def ptos(self) -> list[dict]:
@@ -88,11 +91,35 @@ class Controller:
             frame = protocol.decode(sample.payload.to_bytes(), MEASUREMENTS, len(self.names))
         except FrameError:
             return
+        if self.error:
+            return
         measured = dict(zip(self.names, frame.values, strict=True))
-        update = self.law(frame.step, frame.time, measured, self) or {}
-        self.values.update(update)
+        try:
+            update = self.law(frame.step, frame.time, measured, self) or {}
+            self.values.update(self.checked(update))
+        except Exception as exc:  # noqa: BLE001 - runs in zenoh's thread: handed to run(), which raises it
+            self.error = exc
+            self.finished.set()
+            return
         self.publish(frame.step, frame.time, [self.values[n] for n in self.command_names])
         self.steps += 1
+
+    def checked(self, update: dict) -> dict[str, float]:
+        """The law's answer as numbers by command name; a name the run does not command (a PTO that does not
+        exist, a misspelt kind) or a value that is not a number is refused (ValueError), never dropped."""
+        if not isinstance(update, dict):
+            raise ValueError(f"the control law returned a {type(update).__name__}, not a dict of commands")
+        unknown = [name for name in update if name not in self.values]
+        if unknown:
+            raise ValueError(f"the control law set {unknown[0]!r}, which is not a command of run {self.run_id!r} "
+                             f"(its commands: {', '.join(self.command_names)})")
+        out = {}
+        for name, value in update.items():
+            try:
+                out[name] = float(value)
+            except (TypeError, ValueError):
+                raise ValueError(f"the control law set {name!r} to {value!r}, not a number") from None
+        return out
 
     def publish(self, step: int, t: float, values: list[float]) -> None:
         """Send one command frame (exposed so tests can send deliberately bad frames)."""
@@ -144,6 +171,9 @@ class Controller:
                     break
         finally:
             self.close()
+        if self.error is not None:
+            raise ValueError(f"controller of run {self.run_id!r} stopped after {self.steps} control steps: "
+                             f"{self.error}") from None
         if self.refused_by:
             raise RuntimeError(f"run {self.run_id!r} is already driven by controller {self.refused_by}; this "
                                "controller is refused (one controller per run id)")

@@ -67,6 +67,9 @@ class ControlLoop:
         self.current = initial.copy()
         self.source, self.fault, self.age, self.latency = 0, 0, 0.0, math.nan
         self.count = 0
+        # commands that can feed energy in (negative damping or stiffness): name -> (most negative value, first t)
+        self.negative: dict[str, tuple[float, float]] = {}
+        self._signed = [i for i, c in enumerate(self.manifest.commands) if c.name.endswith((".damping", ".stiffness"))]
 
     @property
     def series(self) -> dict[str, tuple[int, ...]]:
@@ -90,6 +93,11 @@ class ControlLoop:
             self.source, self.age, self.latency = decision.source, decision.age, decision.latency
             self.fault = 0 if decision.fault is None else 1 + FAULTS.index(decision.fault)
             self._mbd.set_reals(self._port, self.current)
+            for i in self._signed:
+                if self.current[i] < 0:
+                    name = self.manifest.commands[i].name
+                    low, first = self.negative.get(name, (0.0, t))
+                    self.negative[name] = (min(low, float(self.current[i])), first)
         self.count += 1
 
     def row(self) -> dict[str, np.ndarray | float]:

@@ -23,13 +23,16 @@ from orchestrator.reference import frequency_domain
 from orchestrator.results import ResultsWriter, energy_account, read_results
 from orchestrator.results.analysis import averaging_window, harmonic_fit, mean_pto_powers, window_mean
 from orchestrator.results.checkpoints import checkpoint_path, read_checkpoint, write_checkpoint
+from orchestrator.results.file_guard import ResultsFileLost, ResultsLock
 from orchestrator.scenario import DOFS, Scenario, parse_scenario
 from orchestrator.scenario.input_checks import check_output
 from orchestrator.scene import HYDRO, Scene, load_scene
 
 from . import error_estimate, step_choice
+from .checkpoint_identity import check_checkpoint, run_identity
 from .control_loop import ControlLoop, control_loop
 from .coupling import bonds, scene_coupling
+from .divergence import divergence_causes
 from .interrupts import InterruptAtStep
 from .master_factory import make_master
 from .masters import Master, MasterSettings
@@ -275,13 +278,11 @@ def is_compiled(py_file: Path) -> bool:
 def mobility(scene: Scene) -> dict | None:
     """DOF count and redundant constraint rows of a constrained scene at its start pose (the multibody
     FMU's own analysis, ``mbd_fmu.assembly.analyse``, run in-process), or None for the linear model."""
-    if scene.scenario.formulation == "linear":
+    r = scene.mobility()
+    if r is None:
         return None
-    from mbd_fmu.spec import mobility_report
-
-    r = mobility_report(scene.mbd_spec(dynamic_lines=False))
     return {"coordinates": r.coordinates, "constraints": r.constraints, "rank": r.rank, "dof": r.dof,
-            "redundant": list(r.redundant), "summary": r.summary()}
+            "redundant": list(r.redundant), "summary": r.summary() + (f"; {r.note}" if r.note else "")}
 
 
 @dataclass
@@ -310,15 +311,21 @@ def run_scenario(
     key = "--out" if output else ("simulation.output" if sim.output else f"the default results file (scenario name "
                                                                         f"{scenario.name!r})")
     path = check_output(Path(output or sim.output or Path("results") / f"{scenario.name}.h5"), key)
-    if sim.error_tolerance:  # runs at chosen steps (orchestrator.cosim.step_choice)
+    if sim.error_tolerance:  # runs at chosen steps (orchestrator.cosim.step_choice), each taking the file's lock
         return step_choice.run_to_tolerance(
             scenario, path, lambda s, out: run_scenario(s, out, in_process=in_process, log=log, progress=progress,
                                                          scene=scene), log)
-    plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
-    plan.started = started
+    lock = ResultsLock(path)  # one writer per results file: a second run on it refuses here
     try:
-        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds)
+        plan = prepare_run(scenario, in_process=in_process, log=log, progress=progress, scene=scene)
+        plan.started = started
     except BaseException:
+        lock.release()
+        raise
+    try:
+        writer = ResultsWriter(path, plan.series, plan.attrs(), flush_seconds=sim.flush_seconds, lock=lock)
+    except BaseException:
+        lock.release()
         plan.master.terminate()
         raise
     state = _Progress(next_checkpoint=sim.checkpoint_every if sim.checkpoint_every > 0 else math.inf)
@@ -350,6 +357,15 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
     results = Path(results)
     if not results.is_file():
         raise WecCosimError(f"results file {results} does not exist")
+    lock = ResultsLock(results, "resume")  # not while a run (or another resume) writes the file
+    try:
+        return _resume(results, lock, log, progress)
+    except BaseException:
+        lock.release()
+        raise
+
+
+def _resume(results: Path, lock: ResultsLock, log, progress: bool) -> RunResult:  # noqa: ANN001
     try:
         with h5py.File(results, "r", swmr=True) as f:
             text = f.attrs["scenario"]
@@ -377,6 +393,11 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
         raise WecCosimError(f"{results} does not hold the {rows} rows its checkpoint needs ({missing[0]!r}); "
                             "run the simulation again")
     _check_same_build(results, stored.get("fmus", {}), plan)
+    try:
+        check_checkpoint(results, saved, plan, np.asarray(old["time"]))
+    except WecCosimError:
+        plan.master.terminate()
+        raise
     # Restore first: a checkpoint that cannot be used leaves the results file as it was.
     try:
         plan.master.initialize(0.0, sim.duration, plan.parameter_links)
@@ -390,11 +411,13 @@ def resume_run(results: str | Path, *, log=print, progress: bool = True) -> RunR
                                 f"{results} is unchanged") from None
         raise
     writer = ResultsWriter(results.with_name(results.name + ".resume.part"), plan.recorder.series, {
-        k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds)
+        k: v for k, v in old["attrs"].items() if k not in ("status", "wall_time")}, flush_seconds=sim.flush_seconds,
+        lock=lock)
     writer.append_block({name: old[name][:rows] for name in plan.recorder.series})
     writer.flush()
     os.replace(writer.path, results)
     writer.path = results
+    writer.watch.moved_to(results)
     every = sim.checkpoint_every
     state = _Progress(steps=saved["steps"], next_checkpoint=saved["time"] + every if every > 0 else math.inf)
     return _execute(plan, writer, state, progress, observe_start=False)
@@ -423,6 +446,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     master, recorder = plan.master, plan.recorder
     bar = ProgressBar(0.0, sim.duration, enabled=progress)
     ckpt = checkpoint_path(writer.path)
+    identity = run_identity(plan) if sim.checkpoint_every > 0 else {}
     end_tick = int(round(sim.duration / sim.step))
 
     control = plan.control
@@ -441,7 +465,7 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         if t >= state.next_checkpoint - 1e-9 * sim.step:
             writer.flush()
             write_checkpoint(ckpt, master.checkpoint(), plan.controller.state(), time=t, rows=writer.written,
-                             steps=state.steps)
+                             steps=state.steps, identity=identity)
             state.next_checkpoint += sim.checkpoint_every
         bar.update(t)
 
@@ -450,9 +474,11 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
     try:
         with interrupt:
             master.run(sim.duration, sim.step, observe, controller=plan.controller, observe_start=observe_start)
+    except ResultsFileLost:  # the writer copied the rows and said where: nothing to close
+        raise
     except MasterError as exc:
         writer.close(status=f"failed: {exc}", wall_time=time.perf_counter() - start, attrs=_final_attrs(plan, "failed"))
-        raise MasterError(f"{exc}{_divergence_advice(plan)} (results up to t = {master.time:g} s are in "
+        raise MasterError(f"{exc}{divergence_causes(plan)} (results up to t = {master.time:g} s are in "
                           f"{writer.path})") from None
     except KeyboardInterrupt:
         writer.close(status="interrupted", wall_time=time.perf_counter() - start,
@@ -460,6 +486,9 @@ def _execute(plan: RunPlan, writer: ResultsWriter, state: _Progress, progress: b
         raise
     except OSError as exc:  # the results or checkpoint file could not be written (disk full, file-size limit)
         _write_failure(plan, writer, exc, start)
+    except BaseException:
+        writer.release()
+        raise
     finally:
         master.terminate()
         bar.close()
@@ -518,6 +547,10 @@ def control_notes(stats: dict | None, fallback: str) -> list[str]:
            + (f", {fell} on the fallback {fallback!r}" if fell else "")
            + (" (faults: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in faults.items()) + ")" if faults
               else "")]
+    dropped = {k: v for k, v in stats.get("dropped_frames", {}).items() if v}
+    if dropped:
+        out.append(f"controller: {sum(dropped.values())} frames dropped without acting on them ("
+                   + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in dropped.items()) + ")")
     if stats.get("refused_controllers"):
         out.append(f"controller: {stats['refused_controllers']} other controller(s) refused on this run id "
                    f"({stats.get('refused_commands', 0)} of their commands ignored)")
@@ -531,9 +564,11 @@ def _write_failure(plan: RunPlan, writer: ResultsWriter, exc: OSError, start: fl
         attrs["control_statistics"] = plan.control.close("failed")
     recorded = writer.fail(f"failed: writing the results: {exc.strerror or exc}",
                            wall_time=time.perf_counter() - start, attrs=attrs)
+    kept = (f"the {writer.written} rows written before are kept"
+            + ("" if recorded else " (the status attribute could not be recorded)") if writer.path.is_file()
+            else f"the results file no longer exists: its {writer.written} rows are lost")
     raise WecCosimError(
-        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; the {writer.written} "
-        f"rows written before are kept{'' if recorded else ' (the status attribute could not be recorded)'}: free "
+        f"writing {writer.path} failed at t = {plan.master.time:g} s: {exc.strerror or exc}; {kept}: free "
         "space (or raise the file-size limit) and resume with `wec-cosim resume` if a checkpoint exists, or run "
         "again") from None
 
@@ -577,27 +612,6 @@ def _run_statistics(plan: RunPlan) -> dict:
     if its:
         out.update(mean_iterations=float(np.mean(its)), max_iterations=int(np.max(its)))
     return out
-
-
-def _divergence_advice(plan: RunPlan) -> str:
-    """Why a run with the added mass on the force side diverges, and what to change."""
-    scenario = plan.scene.scenario
-    if scenario.simulation.added_mass != "explicit_force":
-        return ""
-    scene = plan.scene
-    idx = scene.hydro_index()
-    a_inf = np.diag(scene.hdb.added_mass_inf[np.ix_(idx, idx)])
-    system = scene.multibody_system(added_mass=False)
-    rows = [system.coordinate_index(b, d) for b, d in scene.hydro_coordinates]
-    ratios = a_inf / np.diag(system.structural_mass)[rows]
-    j = int(np.argmax(ratios))
-    b, d = scene.hydro_coordinates[j]
-    return (f". The run diverged because simulation.added_mass = 'explicit_force' applies the infinite-frequency "
-            f"added mass as a force computed from the previous step's acceleration; that explicit coupling is "
-            f"unstable at any step size whenever A_inf exceeds the structural mass, and here A_inf is "
-            f"{ratios[j]:.3g} times the mass ({b} {DOFS[d]}). Use simulation.added_mass = 'mass_matrix' (the "
-            f"default), or 'interface' with master = 'iqn_ils' or 'aitken' for a multibody FMU that cannot take "
-            f"A_inf")
 
 
 def compare_with_frequency_domain(scene: Scene, data: dict) -> list[Comparison]:

@@ -36,9 +36,19 @@ def rao_grid(scene: Scene) -> np.ndarray:
     return np.arange(grid.start, grid.stop + grid.step / 2, grid.step) if grid else scene.hdb.omega
 
 
+def refuse_unstable(scene: Scene) -> None:
+    """A statically unstable scene has no motion that settles to a frequency-domain answer: refuse it."""
+    from .stability import static_instability
+
+    problem = static_instability(scene)
+    if problem:
+        raise WecCosimError(f"{scene.scenario.file}: {problem}")
+
+
 def write_rao_file(scene: Scene, out: Path) -> list[frequency_domain.FrequencyResponse]:
     """Solve the scene's RAOs over ``[rao]`` (each heading) and write them; returns the responses."""
     s = scene.scenario
+    refuse_unstable(scene)
     omega = rao_grid(scene)
     headings = list(s.rao.headings_deg) or [s.waves.heading_deg]
     responses = [_solve(scene, omega, h) for h in headings]
@@ -123,6 +133,7 @@ def write_steady_file(scene: Scene, out: Path, harmonics: int | None = None, for
                       log=print) -> list[SteadyState]:
     """Solve the steady state at each period of ``[steady]`` and write it (module docstring)."""
     s = scene.scenario
+    refuse_unstable(scene)
     n = harmonics or s.steady.harmonics
     form = form or s.steady.form
     periods = wave_periods(scene)

@@ -7,11 +7,26 @@ state (``fmi2SerializeFMUstate`` bytes), ``/master`` the master's and step contr
 both in the data-only layout of :mod:`fmu_base.state_codec` (JSON and raw numeric arrays, never
 pickle: reading a checkpoint runs no code from it); attributes ``format`` ("wec-cosim
 checkpoint"), ``format_version`` (:data:`FORMAT_VERSION`), ``time`` (s), ``rows`` (rows of the
-results file that hold data up to this time), ``steps`` (macro steps taken).
+results file that hold data up to this time), ``steps`` (macro steps taken), and what the checkpoint
+belongs to and an integrity check over its data:
+
+* ``scenario``: the SHA-256 of the run's resolved scenario parameters (:func:`scenario_fingerprint`:
+  every key after defaults, ``--set`` overrides and ``--duration``), so a checkpoint of another run of the
+  same scene (another wave height) is refused on resume;
+* ``build``: the build keys of the FMUs that wrote the states (their file names carry the hash of the
+  sources, the specification and the data), or of the physics sources for the in-process monolithic mode;
+* ``sha256``: the SHA-256 over the states, the master memory, ``time``, ``rows``, ``steps``, ``scenario`` and
+  ``build`` (:func:`checkpoint_digest`): a checkpoint changed after it was written (a radiation history scaled,
+  ``rows`` set to 0) is refused before any FMU sees it. It is an integrity check, not a signature: a change
+  followed by a recomputed digest passes it (the identity and the rows' fit to the results file are checked
+  on resume all the same: :mod:`orchestrator.cosim.checkpoint_identity`).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import json
 import os
 from pathlib import Path
 from typing import Any
@@ -23,7 +38,7 @@ from fmu_base import state_codec
 from orchestrator.errors import WecCosimError
 
 FORMAT = "wec-cosim checkpoint"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: scenario, build and sha256 attributes
 
 
 def checkpoint_path(results: str | Path) -> Path:
@@ -31,13 +46,35 @@ def checkpoint_path(results: str | Path) -> Path:
     return results.with_name(results.stem + ".checkpoint.h5")
 
 
+def scenario_fingerprint(scenario: object) -> str:
+    """SHA-256 of a scenario's resolved parameters (every key of every section after defaults and overrides; not
+    the file's text, its path or comments): two runs with the same fingerprint compute the same thing."""
+    values = {k: v for k, v in dataclasses.asdict(scenario).items() if not k.startswith("_")}
+    return hashlib.sha256(json.dumps(values, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def checkpoint_digest(states: dict[str, bytes], memory: bytes, numbers: dict[str, float | int],
+                      identity: dict[str, str]) -> str:
+    """SHA-256 over a checkpoint's data: each component's state (by name), the master memory, the numbers (time,
+    rows, steps) and the identity (scenario, build)."""
+    h = hashlib.sha256()
+    for name in sorted(states):
+        blob = bytes(states[name])
+        h.update(name.encode() + b"\0" + len(blob).to_bytes(8, "little") + blob)
+    h.update(len(memory).to_bytes(8, "little") + memory)
+    h.update(json.dumps({k: numbers[k] for k in ("time", "rows", "steps")}, sort_keys=True).encode())
+    h.update(json.dumps({k: identity.get(k, "") for k in ("scenario", "build")}, sort_keys=True).encode())
+    return h.hexdigest()
+
+
 def write_checkpoint(path: str | Path, checkpoint: dict, controller_state: dict, *, time: float, rows: int,
-                     steps: int) -> None:
-    """Write atomically: the old checkpoint stays valid until the new one is complete."""
+                     steps: int, identity: dict[str, str] | None = None) -> None:
+    """Write atomically: the old checkpoint stays valid until the new one is complete. ``identity``: the run's
+    ``scenario`` fingerprint and ``build`` key (module docstring)."""
     path = Path(path)
     tmp = path.with_name(path.name + f".{os.getpid()}.part")
     try:
-        _write(tmp, checkpoint, controller_state, time=time, rows=rows, steps=steps)
+        _write(tmp, checkpoint, controller_state, time=time, rows=rows, steps=steps, identity=identity or {})
     except RuntimeError as exc:  # h5py's report of a refused write (disk full)
         from .results_file import write_error
 
@@ -49,21 +86,27 @@ def write_checkpoint(path: str | Path, checkpoint: dict, controller_state: dict,
     os.replace(tmp, path)
 
 
-def _write(tmp: Path, checkpoint: dict, controller_state: dict, *, time: float, rows: int, steps: int) -> None:
+def _write(tmp: Path, checkpoint: dict, controller_state: dict, *, time: float, rows: int, steps: int,
+           identity: dict[str, str]) -> None:
+    states = {name: bytes(blob) for name, blob in checkpoint["states"].items()}
+    memory = state_codec.encode({"master": checkpoint["master"], "controller": controller_state})
+    numbers = {"time": time, "rows": rows, "steps": steps}
     with h5py.File(tmp, "w") as f:
-        for name, blob in checkpoint["states"].items():
-            f.create_dataset(f"states/{name}", data=np.void(bytes(blob)))
-        memory = {"master": checkpoint["master"], "controller": controller_state}
-        f.create_dataset("master", data=np.void(state_codec.encode(memory)))
+        for name, blob in states.items():
+            f.create_dataset(f"states/{name}", data=np.void(blob))
+        f.create_dataset("master", data=np.void(memory))
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
-        f.attrs["time"] = time
-        f.attrs["rows"] = rows
-        f.attrs["steps"] = steps
+        for key, value in numbers.items():
+            f.attrs[key] = value
+        for key in ("scenario", "build"):
+            f.attrs[key] = identity.get(key, "")
+        f.attrs["sha256"] = checkpoint_digest(states, memory, numbers, identity)
 
 
 def read_checkpoint(path: str | Path) -> dict[str, Any]:
-    """``{"checkpoint": {...}, "controller": {...}, "time", "rows", "steps"}``."""
+    """``{"checkpoint": {...}, "controller": {...}, "time", "rows", "steps", "identity": {"scenario", "build"}}``,
+    its integrity checked (:func:`checkpoint_digest`) before anything is decoded."""
     path = Path(path)
     if not path.is_file():
         raise WecCosimError(
@@ -79,8 +122,15 @@ def read_checkpoint(path: str | Path) -> dict[str, Any]:
                 raise state_codec.StateFormatError(f"checkpoint format version {version} is not supported (this "
                                                    f"version reads {FORMAT_VERSION})")
             states = {name: _blob(f, f"states/{name}") for name in f["states"]}
-            memory = state_codec.decode(_blob(f, "master"))
+            raw = _blob(f, "master")
             out = {key: _number(f, key) for key in ("time", "rows", "steps")}
+            identity = {key: str(f.attrs.get(key, "")) for key in ("scenario", "build")}
+            stored = str(f.attrs.get("sha256", ""))
+        if checkpoint_digest(states, raw, out, identity) != stored:
+            raise state_codec.StateFormatError(
+                "its data were changed after it was written (the SHA-256 over its states, memory, time, rows and "
+                "identity does not match the one it carries)")
+        memory = state_codec.decode(raw)
         if not isinstance(memory, dict) or not {"master", "controller"} <= set(memory):
             raise state_codec.StateFormatError("its master memory lacks the master's or the step controller's state")
         for name, blob in states.items():
@@ -95,6 +145,7 @@ def read_checkpoint(path: str | Path) -> dict[str, Any]:
                             f"{exc}); run the simulation again") from None
     out["checkpoint"] = {"states": states, "master": memory["master"]}
     out["controller"] = memory["controller"]
+    out["identity"] = identity
     return out
 
 

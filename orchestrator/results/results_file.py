@@ -12,6 +12,10 @@ Layout (every dataset has a first axis of N samples; see ``docs/results.md``):
   (``completed`` or ``failed: ...``) and ``wall_time`` (s). ``status`` is ``running`` while the run
   goes or if it was killed.
 
+One writer per file: the run holds a lock on ``<file>.lock`` while it writes (a second run on the same
+file refuses); a file deleted or replaced while it is written stops the run, its rows copied to
+``<file stem>.recovered.h5`` (:mod:`.file_guard`).
+
 Crash safety: datasets are chunked and extendable; rows are buffered in memory and appended at
 least every ``flush_seconds`` of wall time, the file being in HDF5's single-writer/multiple-reader
 (SWMR) mode, which keeps it consistent on disk at every moment. A killed run leaves a file that
@@ -22,6 +26,7 @@ one flush longer than others (each dataset's new size becomes visible on its own
 
 from __future__ import annotations
 
+import contextlib
 import json
 import time
 from pathlib import Path
@@ -29,6 +34,10 @@ from typing import Any
 
 import h5py
 import numpy as np
+
+from orchestrator.scenario.input_checks import require_room
+
+from .file_guard import FileWatch, ResultsFileLost, ResultsLock, rescue
 
 
 class ResultsWriter:
@@ -40,6 +49,8 @@ class ResultsWriter:
         attrs: root attributes written at creation (strings or numbers; dicts become JSON).
         flush_seconds: longest wall time between two flushes.
         buffer_rows: rows kept in memory before a flush at the latest.
+        lock: the :class:`~.file_guard.ResultsLock` the caller took on the file the rows are for (released when
+            the writer is closed).
     """
 
     def __init__(
@@ -49,11 +60,16 @@ class ResultsWriter:
         attrs: dict[str, Any],
         flush_seconds: float = 2.0,
         buffer_rows: int = 2048,
+        lock: ResultsLock | None = None,
     ) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.flush_seconds = flush_seconds
+        self.lock = lock
+        self.rows = self.written = 0
+        self._room(0)  # HDF5 cannot close a file after a failed write: refuse a full disk before creating it
         self.file = h5py.File(self.path, "w", libver="latest")
+        self.watch = FileWatch(self.path)
         for key, value in attrs.items():
             self.file.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
         self.file.attrs["status"] = "running"
@@ -127,19 +143,44 @@ class ResultsWriter:
     def _room(self, nbytes: int) -> None:
         """Refuse a write that the disk or the file-size limit would cut half-way: HDF5 cannot close a file
         after a failed write (and its library may crash at exit), so stop while the file is still whole."""
-        import errno
-        import resource
-        import shutil
-
         need = 2 * nbytes + 256 * 1024  # data, chunk and metadata overhead, the final attributes
-        size = self.path.stat().st_size if self.path.exists() else 0
-        limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
-        if limit != resource.RLIM_INFINITY and size + need > limit:
-            raise OSError(errno.EFBIG, f"file size limit of {limit} bytes reached", str(self.path))
-        if shutil.disk_usage(self.path.parent).free < need:
-            raise OSError(errno.ENOSPC, "no space left on the device", str(self.path))
+        require_room(self.path, need)
+
+    def _check_file(self) -> None:
+        """Stop (:class:`ResultsFileLost`) if the file was deleted or replaced; its rows copied where they can be
+        read (:func:`.file_guard.rescue`)."""
+        problem = self.watch.problem()
+        if problem is None:
+            return
+        last = ""
+        if "time" in self.columns and (self.rows or self.written):
+            t = self.buffer[self.rows - 1, self.columns["time"][0]] if self.rows else self.datasets["time"][-1]
+            last = f" up to t = {float(np.ravel(t)[0]):g} s"
+        n = self.written
+        try:
+            self._flush_rows()
+            n = self.written
+            self.file.attrs["status"] = f"failed: the results file {self.path} was {problem} during the run"
+        except Exception:  # noqa: BLE001 - the unlinked file may not take more: the rows already in it are copied
+            pass
+        target = rescue(self.file, self.path)
+        with contextlib.suppress(Exception):
+            self.file.close()
+        self.release()
+        where = (f"the {n} rows written{last} are saved in {target}" if target
+                 else f"the {n} rows written{last} went into the {problem} file and are lost")
+        raise ResultsFileLost(
+            f"the results file {self.path} was {problem} while the run was writing it: {where}; the run stopped. "
+            "Do not delete, move or replace a results file before its run ends (another run on the same file is "
+            "refused by its lock); run the simulation again")
 
     def _flush(self) -> None:
+        self._check_file()
+        self._flush_rows()
+        self.file.flush()
+        self._last_flush = time.monotonic()
+
+    def _flush_rows(self) -> None:
         if self.rows:
             self._room(self.buffer[: self.rows].nbytes)
             n0, n1 = self.written, self.written + self.rows
@@ -151,21 +192,30 @@ class ResultsWriter:
                 _write_rows(ds, n0, block, memory if not shape else None)
                 ds.flush()
             self.written, self.rows = n1, 0
-        self.file.flush()
-        self._last_flush = time.monotonic()
 
     def close(self, status: str = "completed", wall_time: float | None = None,
               attrs: dict[str, Any] | None = None) -> None:
-        """Flush, close, and record the final status and wall time."""
-        if self.file.id.valid:
-            self.flush()
-            self.file.close()
-        with h5py.File(self.path, "a") as f:
-            f.attrs["status"] = status
-            if wall_time is not None:
-                f.attrs["wall_time"] = wall_time
-            for key, value in (attrs or {}).items():
-                f.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
+        """Flush, close, and record the final status and wall time; release the lock."""
+        try:
+            if self.file.id.valid:
+                self.flush()
+                self.file.close()
+            self._check_file()
+            with h5py.File(self.path, "a") as f:
+                f.attrs["status"] = status
+                if wall_time is not None:
+                    f.attrs["wall_time"] = wall_time
+                for key, value in (attrs or {}).items():
+                    f.attrs[key] = json.dumps(value) if isinstance(value, (dict, list)) else value
+        finally:
+            if status != "running":
+                self.release()
+
+    def release(self) -> None:
+        """Drop the lock on the results file (idempotent)."""
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
 
 
     def fail(self, status: str, wall_time: float | None = None, attrs: dict[str, Any] | None = None) -> bool:
@@ -187,6 +237,8 @@ class ResultsWriter:
                 return True
             except Exception:  # noqa: BLE001
                 return False
+        finally:
+            self.release()
 
 
 def row_layout(series: dict[str, tuple[int, ...]]) -> dict[str, tuple[slice, tuple[int, ...]]]:

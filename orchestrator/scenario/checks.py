@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from mbd_fmu.spec_checks import ModelError, direction, distance_problem, inertia_problem, universal_axes_problem
 from orchestrator.errors import ScenarioError
 
 from . import input_checks
@@ -32,6 +33,10 @@ def check_scenario(s: Scenario) -> None:
             raise ScenarioError(f"{where}: inertia needs 3 or 6 values, got {len(b.inertia)}")
         if b.inertia is not None and any(v <= 0 for v in b.inertia[:3]):
             raise ScenarioError(f"{where}: the principal moments of inertia must be positive")
+        if b.inertia is not None and not b.point_mass and any(d in b.dofs for d in ("roll", "pitch", "yaw")):
+            problem = inertia_problem(inertia_tensor(b.inertia))
+            if problem:
+                raise ScenarioError(f"{where}: inertia {list(b.inertia)}: {problem}")
         if any(d in b.dofs for d in ("roll", "pitch", "yaw")) and b.inertia is None:
             raise ScenarioError(f"{where}: rotational dofs are active but no inertia is given")
         if b.hydro and not s.hydro.database and b.geometry is None:
@@ -244,6 +249,16 @@ def _check_multibody(s: Scenario, f: str, names: dict) -> None:
             vec(where, "position2", j.position2)
         if j.kind == "universal" and not j.axis2:
             raise ScenarioError(f"{where}: a universal joint needs axis2 (the cross axis on body2)")
+        try:  # directions of any scale; two axes of a universal joint at a right angle; a distance of two points
+            direction(j.axis, "axis")
+            if j.axis2:
+                direction(j.axis2, "axis2")
+            problem = (universal_axes_problem(j.axis, j.axis2) if j.kind == "universal"
+                       else distance_problem(j.position, j.position2) if j.kind == "distance" else None)
+        except ModelError as exc:
+            problem = str(exc)
+        if problem:
+            raise ScenarioError(f"{where}: {problem}")
     for i, e in enumerate(s.forces):
         where = f"{f}: forces[{i}] ({e.name})"
         if e.kind in ("spring_damper", "rope", "bushing"):
@@ -348,6 +363,13 @@ def _check_mooring_lines(s: Scenario, f: str) -> None:
                 "m/s): MoorDyn's explicit scheme would blow up; reduce the step or the number of segments")
 
 
+def inertia_tensor(values: list[float]) -> list[list[float]]:
+    """The 3x3 inertia tensor (kg m^2) of a body's ``inertia`` key: [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz,
+    Iyz], the products being the tensor's off-diagonal entries."""
+    ixx, iyy, izz, ixy, ixz, iyz = list(values) + [0.0] * (6 - len(values))
+    return [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]
+
+
 def _check_moordyn_file(s: Scenario, f: str) -> None:
     """A MoorDyn input file: readable and usable, one scenario body per Coupled point, rho and g as the scenario's."""
     from mbd_fmu.moordyn_files import MoorDynFileError, read_moordyn_file
@@ -410,8 +432,14 @@ def _check_geometry(s: Scenario, b: BodySection, where: str) -> None:
 
 
 def _unique(file: str, what: str, names: list[str]) -> None:
-    seen = set()
+    """Names used once, and not twice with different case: they name files (databases in the cache, FMUs) and
+    variables, and on file systems that ignore case (macOS, Windows) ``float`` and ``Float`` are one file."""
+    seen: dict[str, str] = {}
     for n in names:
-        if n in seen:
+        if n in seen.values():
             raise ScenarioError(f"{file}: {what}: name {n!r} is used twice")
-        seen.add(n)
+        if n.casefold() in seen:
+            raise ScenarioError(f"{file}: {what}: names {seen[n.casefold()]!r} and {n!r} differ only in case; they "
+                                "name files and FMU variables, which some file systems and tools do not tell apart: "
+                                "give names that differ in more than case")
+        seen[n.casefold()] = n

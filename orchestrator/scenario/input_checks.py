@@ -19,6 +19,7 @@ import os
 import re
 from pathlib import Path
 
+from hydro_fmu.meshes import MAX_WETTED_PANELS
 from orchestrator.errors import ScenarioError, WecCosimError
 
 MAX_SCENARIO_BYTES = 4 * 1024 * 1024
@@ -29,7 +30,7 @@ MAX_BEM_FREQUENCIES = 2_000  # BEM solves
 MAX_GRID = 1_000_000  # any other frequency grid (RAO, impulse-response transform)
 MAX_COMPONENTS = 200_000  # wave components x directions
 MAX_HARMONICS = 2_000
-MAX_PANELS = 60_000  # primitive meshes for Capytaine
+MAX_PANELS = MAX_WETTED_PANELS  # wetted panels of a body for Capytaine (primitive or mesh file)
 MAX_SWEEP_POINTS = 100_000  # cases of a sweep (checked by wec_cosim.sweeps.grid.plan_sweep)
 MAX_SEED = 2**31 - 1
 NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]{0,99}$")
@@ -162,6 +163,14 @@ def _check_panels(s, f: str) -> None:  # noqa: ANN001
         return
     for i, b in enumerate(s.bodies):
         g = b.geometry
+        if g is not None and g.shape == "mesh" and g.mesh_file and s.resolve(g.mesh_file).is_file():
+            from hydro_fmu.hdb import HydroDatabaseError
+            from hydro_fmu.meshes import check_face_count
+
+            try:  # counted from the file's header or lines, before anything reads the mesh
+                check_face_count(s.resolve(g.mesh_file))
+            except HydroDatabaseError as exc:
+                raise ScenarioError(f"{f}: bodies[{i}].geometry.mesh_file: {exc}") from None
         if g is None or g.shape == "mesh":
             continue
         if g.shape == "vertical_cylinder":
@@ -280,3 +289,23 @@ def check_output(path: Path, key: str, *, kind: str = "hdf5") -> Path:
     if not os.access(probe, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise WecCosimError(f"{key}: {path if path.exists() else probe} is not writable; choose another path")
     return path
+
+
+def require_room(path: Path, nbytes: int) -> None:
+    """Refuse (an ``OSError``: ENOSPC or EFBIG, naming ``path``) to write a file of about ``nbytes`` at ``path`` when
+    its disk has less free space or the process's file-size limit (``ulimit -f``) is smaller: an HDF5 file whose
+    write fails half-way cannot be closed, and HDF5's exit handler may then crash the process."""
+    import errno
+    import resource
+    import shutil
+
+    path = Path(path)
+    size = path.stat().st_size if path.exists() else 0
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if limit != resource.RLIM_INFINITY and size + nbytes > limit:
+        raise OSError(errno.EFBIG, f"file size limit of {limit} bytes reached", str(path))
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if shutil.disk_usage(folder).free < nbytes:
+        raise OSError(errno.ENOSPC, "no space left on the device", str(path))

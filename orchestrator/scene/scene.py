@@ -20,7 +20,8 @@ from hydro_fmu.hdb import HydroDatabase, HydroDatabaseError
 from hydro_fmu.linearisation import CouplingPattern, coupling_pattern
 from hydro_fmu.meshes import SurfaceMesh, write_meshes
 from hydro_fmu.model import ForceSwitches, HydroOptions
-from hydro_fmu.sea import Sea, SeaSpec, build_sea
+from hydro_fmu.sea import Sea, SeaSpec, build_sea, discretisation, sea_spectrum
+from hydro_fmu.spectra import held_variance
 from hydro_fmu.waves import Ramp, WaveComponents
 from mbd_fmu.bodies import RigidBody
 from mbd_fmu.force_elements import LinearPTO
@@ -28,6 +29,7 @@ from mbd_fmu.linear_system import LinearMultibodySystem
 from orchestrator.errors import ScenarioError
 from orchestrator.scenario import DOFS, Scenario
 from orchestrator.scenario.body_sections import BodySection
+from orchestrator.scenario.checks import inertia_tensor
 
 from .database import TAIL_CORRECTION, bem_inputs, check_wave_range, load_database, sorted_dofs
 
@@ -56,9 +58,12 @@ class Scene:
         self.scenario = scenario
         self.hdb = hdb
         self.hdb_file = hdb_file
+        self._mobility = None  # mobility(), computed once
         self.hydro_bodies = [b.name for b in scenario.hydro_bodies]
         self.hydro_coordinates = [(b.name, DOFS.index(d)) for b in scenario.hydro_bodies
                                   for d in sorted_dofs(b)]
+        if scenario.waves.kind == "irregular" and scenario.waves.discretisation == "equal_frequency":
+            check_held_energy(scenario, self.sea_spec())
         if scenario.waves.kind != "still":
             try:
                 headings = np.unique(self.waves().headings) if scenario.waves.spreading_s > 0 else [
@@ -79,9 +84,7 @@ class Scene:
     def inertia_matrix(b: BodySection) -> np.ndarray:
         if b.inertia is None:
             return np.eye(3)  # unused: no rotational DOF is active
-        v = list(b.inertia) + [0.0] * (6 - len(b.inertia))
-        ixx, iyy, izz, ixy, ixz, iyz = v
-        return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        return np.array(inertia_tensor(b.inertia))
 
     def rigid_bodies(self) -> list[RigidBody]:
         return [
@@ -464,6 +467,23 @@ class Scene:
                     "position": list(p.position), "dof": DOFS.index(p.dof)}
         return {"kind": "body", "body": p.body, "dof": DOFS.index(p.dof)}
 
+    def mobility(self):  # noqa: ANN201 - mbd_fmu.assembly.MobilityReport | None
+        """DOF count, redundant constraint rows and the assembly's correction of the start pose of a constrained
+        scene (``mbd_fmu.spec.mobility_report``, computed once), or None for the linear model. A model that
+        cannot be built or assembled (``mbd_fmu.spec_checks.ModelError``) is a :class:`ScenarioError` naming the
+        scenario file."""
+        if self.scenario.formulation == "linear":
+            return None
+        if self._mobility is None:
+            from mbd_fmu.spec import mobility_report
+            from mbd_fmu.spec_checks import ModelError
+
+            try:
+                self._mobility = mobility_report(self.mbd_spec(dynamic_lines=False))
+            except ModelError as exc:
+                raise ScenarioError(f"{self.scenario.file}: {exc}") from None
+        return self._mobility
+
     def multibody_simulator(self, *, added_mass: bool = True):
         """The nonlinear multibody model of the scene, assembled (for linearisation and tests); MoorDyn lines
         are the quasi-static catenaries of the same properties here (the frequency-domain model)."""
@@ -526,6 +546,24 @@ class Scene:
         return [Connection(HYDRO, f"A_inf[{k},{l}]", MBD, f"A_inf[{k},{l}]") for k in labels for l in labels]
 
 
+HS_TOLERANCE = 0.25  # largest relative difference of the discretised sea's Hs from the spectrum's
+
+
+def check_held_energy(scenario: Scenario, spec: SeaSpec) -> None:
+    """Refuse an equal-frequency sea whose components hold an Hs more than :data:`HS_TOLERANCE` off the spectrum's
+    (a repeat period too short for the spectrum: 2 pi / repeat_period wider than its peak leaves few components
+    or none, and an Hs 2 m sea becomes still water)."""
+    ratio = math.sqrt(held_variance(sea_spectrum(spec), discretisation(spec)))
+    if abs(ratio - 1) > HS_TOLERANCE:
+        w = scenario.waves
+        key = "waves.repeat_period" if w.repeat_period > 0 else "waves.repeat_period (default: simulation.duration)"
+        raise ScenarioError(
+            f"{scenario.file}: {key} = {spec.repeat_period:g} s spaces the wave components by "
+            f"{2 * math.pi / spec.repeat_period:.4g} rad/s: they hold an Hs {100 * ratio:.3g} % of the spectrum's "
+            f"(more than {100 * HS_TOLERANCE:g} % off), the sea would not be the one asked for; give a repeat period "
+            f"of many peak periods (e.g. 100 Tp or more) or discretisation = 'equal_energy'")
+
+
 def _correction_json(correction: tuple[np.ndarray, np.ndarray] | None) -> dict | None:
     if correction is None:
         return None
@@ -534,7 +572,11 @@ def _correction_json(correction: tuple[np.ndarray, np.ndarray] | None) -> dict |
 
 
 def load_scene(scenario: Scenario, *, refresh: bool = False, log=print, progress: bool = False) -> Scene:
-    """The scenario resolved against its database (computed if needed, see :func:`load_database`)."""
+    """The scenario resolved against its database (computed if needed, see :func:`load_database`); a constrained
+    scene's multibody model built and assembled once (:meth:`Scene.mobility`), so that a model the equations
+    cannot take is refused here, naming the scenario file."""
     hdb, path = load_database(scenario, refresh=refresh, log=log, progress=progress)
     check_wave_range(scenario, hdb, path)
-    return Scene(scenario, hdb, path)
+    scene = Scene(scenario, hdb, path)
+    scene.mobility()
+    return scene

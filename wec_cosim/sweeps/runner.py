@@ -14,7 +14,14 @@ from .case import CaseTask
 from .grid import Case, SweepPlan, plan_sweep
 from .matrices import assemble
 from .progress import SweepProgress
-from .scheduler import dask_client, results_in_process, results_on_dask
+from .scheduler import (
+    SchedulerLost,
+    ctrl_c_interrupts,
+    dask_client,
+    deaf_to_ctrl_c,
+    results_in_process,
+    results_on_dask,
+)
 from .store import SweepStore
 
 
@@ -52,6 +59,18 @@ def run_sweep(scenario: Scenario, out: str | Path, *, scheduler: str | None = No
     """
     plan = plan_sweep(scenario)
     store = SweepStore.open(out, plan)
+    try:  # from here on an interruption leaves the file whole, with what finished, status "interrupted"
+        with ctrl_c_interrupts():
+            return _run(plan, store, scenario, client, in_process, scheduler, workers, retry_failed, progress, log)
+    except KeyboardInterrupt:
+        done = _stop(store, "interrupted")
+        raise SweepInterrupted(
+            f"interrupted: {done} of {len(plan.cases)} cases are in {store.path}; run the same command again "
+            f"to run the {len(plan.cases) - done} missing ones") from None
+
+
+def _run(plan: SweepPlan, store: SweepStore, scenario: Scenario, client, in_process: bool | None,  # noqa: ANN001
+         scheduler: str | None, workers: int | None, retry_failed: bool, progress: bool, log) -> SweepOutcome:  # noqa: ANN001
     statuses = store.statuses()
     todo = [c for c in plan.cases if c.id not in statuses or (retry_failed and statuses[c.id] != "ok")]
     todo.sort(key=lambda c: c.seed_index)  # a full grid of first seeds first: a usable matrix early
@@ -75,12 +94,14 @@ def run_sweep(scenario: Scenario, out: str | Path, *, scheduler: str | None = No
                 bar.update(result.ok)
     except KeyboardInterrupt:
         bar.close()
-        assemble(store)
-        store.finish("interrupted")
-        done = len(store.statuses())
-        raise SweepInterrupted(
-            f"interrupted: {done} of {len(plan.cases)} cases are in {store.path}; run the same command again "
-            f"to run the {len(plan.cases) - done} missing ones") from None
+        raise
+    except SchedulerLost as exc:
+        bar.close()
+        done = _stop(store, "interrupted: the connection to the Dask scheduler was lost")
+        raise WecCosimError(
+            f"{exc}: the sweep stopped; {done} of {len(plan.cases)} cases are in {store.path} (the cases that were "
+            f"running have no result, none is recorded as failed); run the same command again to run the "
+            f"{len(plan.cases) - done} missing ones (check the scheduler and workers first)") from None
     bar.close()
     assemble(store)
     statuses = store.statuses()
@@ -89,6 +110,15 @@ def run_sweep(scenario: Scenario, out: str | Path, *, scheduler: str | None = No
     store.finish(("completed" if not n_failed else f"completed, {n_failed} cases failed") if complete
                  else "incomplete")
     return SweepOutcome(store.path, plan, already, len(todo), failed, store.duplicates, time.perf_counter() - start)
+
+
+def _stop(store: SweepStore, status: str) -> int:
+    """Record a stopped sweep (matrices of what finished, ``status``), deaf to a further Ctrl-C; the number of
+    cases in the file."""
+    with deaf_to_ctrl_c():
+        assemble(store)
+        store.finish(status)
+        return len(store.statuses())
 
 
 @contextmanager

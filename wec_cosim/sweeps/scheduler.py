@@ -58,15 +58,66 @@ def dask_client(address: str | None = None, workers: int = 0, log=print) -> Iter
             log(f"Dask dashboard: {client.dashboard_link}")
         yield client
     finally:
-        try:
-            client.close(timeout=CLOSE_TIMEOUT)
-        except (OSError, TimeoutError):
-            # A Ctrl-C that lands inside one of the client's calls can leave it unable to close cleanly (it then
-            # waited twice the connect timeout, 120 s, and its TimeoutError replaced the interruption the user
-            # asked for); the cluster's processes are closed below all the same.
-            pass
-        if cluster is not None:
-            close_quietly(cluster)
+        with deaf_to_ctrl_c():  # a second Ctrl-C while the cluster closes must not break the closing
+            try:
+                client.close(timeout=CLOSE_TIMEOUT)
+            except (OSError, TimeoutError):
+                # A Ctrl-C that lands inside one of the client's calls can leave it unable to close cleanly (it
+                # then waited twice the connect timeout, 120 s, and its TimeoutError replaced the interruption the
+                # user asked for); the cluster's processes are closed below all the same.
+                pass
+            if cluster is not None:
+                close_quietly(cluster)
+
+
+@contextmanager
+def ctrl_c_interrupts() -> Iterator[None]:
+    """Inside the block every SIGINT raises KeyboardInterrupt in the main thread, also where Python's own handler
+    would not reach the sweep's code. The shutdown that follows (thousands of futures released, the cluster
+    closed, the file recorded) runs in :func:`deaf_to_ctrl_c` blocks, so a second Ctrl-C does not cut it. The
+    process does not start ignoring SIGINT at the first press: an interrupt raised inside a garbage-collector
+    callback or a ``__del__`` (Dask has both) is swallowed by Python ("Exception ignored in ..." and its traceback),
+    and a sweep that then ignored every later Ctrl-C ran on; a press that lands there is sent again 50 ms later
+    instead. Outside the main thread nothing changes."""
+    import os
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum: int, frame) -> None:  # noqa: ANN001
+        f = frame
+        while f is not None:  # inside a gc callback or a __del__ Python would swallow it: signal again shortly
+            if f.f_code.co_name == "__del__" or f.f_code.co_filename.replace("\\", "/").endswith("distributed/gc.py"):
+                threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+                return
+            f = f.f_back
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGINT, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+@contextmanager
+def deaf_to_ctrl_c() -> Iterator[None]:
+    """SIGINT ignored inside the block (in the main thread; elsewhere nothing changes): the last words of an
+    interrupted sweep (closing the cluster, recording what finished) are not cut by a second Ctrl-C."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 def close_quietly(cluster) -> None:  # noqa: ANN001
@@ -94,7 +145,7 @@ def local_cluster(workers: int, dashboard: bool = True):
     try:
         with dask.config.set({"distributed.comm.timeouts.connect": CONNECT_TIMEOUT}):
             return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                silence_logs=logging.CRITICAL,
+                                silence_logs=logging.CRITICAL, preload=["wec_cosim.sweeps.worker_signals"],
                                 dashboard_address=":8787" if dashboard and _has_dashboard() else ":0")
     except (OSError, TimeoutError) as exc:
         raise WecCosimError(f"the local Dask cluster of {workers} workers did not start ({exc})") from None
@@ -107,8 +158,15 @@ def _has_dashboard() -> bool:
     return importlib.util.find_spec("bokeh") is not None
 
 
+class SchedulerLost(WecCosimError):
+    """The client lost its connection to the Dask scheduler: the cases still running or waiting have no result."""
+
+
 def results_on_dask(client, tasks: Iterable[CaseTask]) -> Iterator[CaseResult]:
-    """Submit every task and yield the results as they finish (in any order)."""
+    """Submit every task and yield the results as they finish (in any order). A lost connection to the
+    scheduler cancels every pending case at once: that is :class:`SchedulerLost`, not one failure per case."""
+    from concurrent.futures import CancelledError
+
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
@@ -122,6 +180,9 @@ def results_on_dask(client, tasks: Iterable[CaseTask]) -> Iterator[CaseResult]:
             except KilledWorker as exc:
                 yield CaseResult(task.case.id, "failed", error=f"the worker process running this case died "
                                  f"repeatedly (a crash or out of memory): {exc}")
+            except CancelledError as exc:  # the scheduler is gone (or cancelled the work): no case result
+                raise SchedulerLost(f"the connection to the Dask scheduler was lost ({' '.join(str(exc).split())})"
+                                    ) from None
             except Exception as exc:  # noqa: BLE001 - e.g. a worker without this package: that case's result
                 yield CaseResult(task.case.id, "failed", error=f"{type(exc).__name__}: {exc}")
             future.release()
