@@ -35,7 +35,9 @@ from .state_space import StateSpaceFitError, fit_state_space, scaled_error
 # Kernel written by default: 40 s at 0.05 s (801 samples; the bundled scenarios' hydro.irf_duration is 30-40 s).
 IRF_DURATION = 40.0
 IRF_STEP = 0.05
-SS_TOLERANCE = 0.02
+# Each entry's realisation within 1 % of its entry's scale on the fit's own samples: measured on the cylinder's heave,
+# 0.02 gave order 3 and 2.8 % (max) / 5.0 % (rms) off the written kernel, 0.01 order 4 and 0.6 % / 1.1 %.
+SS_TOLERANCE = 0.01
 SS_MAX_ORDER = 12
 
 
