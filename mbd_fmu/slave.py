@@ -477,11 +477,17 @@ class MultibodySlave(VectorSlave):
                 stacked = self._commands_view = False
         return stacked.tolist() if stacked is not False else [self._arrays[key].tolist() for key in keys]
 
+    def _set_fmu_state(self, state: Any) -> None:
+        """The state set back (in place on the same simulator, or a new one): every watched input is read again at
+        the next step, since the commands the state holds may differ from those the simulator last saw."""
+        super()._set_fmu_state(state)
+        self._pending_for = None
+
     def _step_nonlinear(self, step_size: float) -> bool:
         sim = self.system
         arrays = self._arrays
         pending = self._pending
-        if sim is not self._pending_for:  # a restored state (always a new simulator): every watched input
+        if sim is not self._pending_for:  # a restored state (_set_fmu_state) or a new simulator: every watched input
             pending.update(self._WATCHED.values())
             self._pending_for = sim
         if sim.ptos and "commands" in pending:
