@@ -101,6 +101,7 @@ def test_a_numpy_class_whose_finaliser_deletes_a_folder_is_refused(tmp_path) -> 
 
 
 def test_classes_of_the_template_and_of_the_allow_list_are_restored() -> None:
+    import mbd_fmu.simulator  # noqa: F401 - RESTORABLE's classes count once their modules are imported
     from mbd_fmu.formulations import Factorized
 
     # A second _Node where the template (one _Node) has none: the template's own class, so it is built.
@@ -227,11 +228,18 @@ def test_a_pickle_payload_in_a_checkpoint_does_not_execute(tmp_path, checkpointe
 
 @pytest.mark.parametrize("in_process", [False, True], ids=["fmpy", "in-process"])
 def test_a_crafted_fmu_state_is_a_clean_error_from_the_fmu(tmp_path, checkpointed_run, in_process) -> None:
-    """A well-formed state of the wrong FMU passes the checkpoint's checks and reaches the hydro FMU, which
-    refuses it with its own message: exit 2 and that message, under fmpy as in-process (no crash)."""
+    """A well-formed state of the wrong FMU, re-signed with a correct digest (a careful forger: the digest is an
+    integrity check, not a signature), passes the checkpoint's checks and reaches the hydro FMU, which refuses it
+    with its own message: exit 2 and that message, under fmpy as in-process (no crash)."""
+    from orchestrator.results.checkpoints import checkpoint_digest
+
     def swap(f: h5py.File) -> None:
         mbd = f["states/mbd"][()].tobytes()
         _replace(f, "states/hydro", mbd)
+        states = {name: f[f"states/{name}"][()].tobytes() for name in f["states"]}
+        numbers = {k: f.attrs[k].item() for k in ("time", "rows", "steps")}
+        identity = {k: str(f.attrs[k]) for k in ("scenario", "build")}
+        f.attrs["sha256"] = checkpoint_digest(states, f["master"][()].tobytes(), numbers, identity)
 
     proc, _ = _resume_copy(tmp_path, checkpointed_run, swap, in_process=in_process)
     assert proc.returncode == 2, proc.stderr

@@ -46,10 +46,18 @@ def checkpoint_path(results: str | Path) -> Path:
     return results.with_name(results.stem + ".checkpoint.h5")
 
 
+# [simulation] keys that say where and how often a run writes its files, not what it computes: a resume may differ in
+# them (a scenario changed in Python records only what changes the computation).
+BOOKKEEPING = ("output", "flush_seconds", "checkpoint_every")
+
+
 def scenario_fingerprint(scenario: object) -> str:
-    """SHA-256 of a scenario's resolved parameters (every key of every section after defaults and overrides; not
-    the file's text, its path or comments): two runs with the same fingerprint compute the same thing."""
+    """SHA-256 of a scenario's resolved parameters (every key of every section after defaults and overrides but the
+    file-writing ones of ``BOOKKEEPING``; not the file's text, its path or comments): two runs with the same
+    fingerprint compute the same thing."""
     values = {k: v for k, v in dataclasses.asdict(scenario).items() if not k.startswith("_")}
+    for key in BOOKKEEPING:  # where and how often the run writes: not what it computes
+        values.get("simulation", {}).pop(key, None)
     return hashlib.sha256(json.dumps(values, sort_keys=True, default=str).encode()).hexdigest()
 
 
