@@ -18,17 +18,15 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.common import load, report_header, write_report  # noqa: E402
+from benchmarks.common import load, report_header, timed_child, write_report  # noqa: E402
 
 # (scenario, simulated seconds or None for the scenario's own)
 SCENES = (("hinge_barge", None), ("array_4n3la", 20.0))
@@ -43,14 +41,8 @@ def child_run(scenario: str, duration: float | None, cache: Path, out: Path) -> 
     env = dict(os.environ, WEC_COSIM_CACHE=str(cache))
     env.pop("WEC_COSIM_NO_JIT", None)
     env.pop("WEC_COSIM_NUMBA_CACHE", None)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if proc.returncode:
-        raise RuntimeError(f"{' '.join(cmd)} failed:\n{proc.stderr[-2000:]}")
-    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
+    wall, cpu = timed_child(cmd, ROOT, env)
+    return cpu, wall
 
 
 def entry_points(scenario: str, cache: Path) -> tuple[float, list[tuple[str, float]]]:

@@ -15,15 +15,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-from common import ROOT, cpu_model, load, report_header, revision_tree, write_report
+from common import ROOT, cpu_model, load, report_header, revision_tree, timed_child, write_report
 
 BEFORE = "a4bdb99"  # the numba hydro path, in the package layout of this tree
 SCENARIO = "scenarios/cylinder_regular.toml"
@@ -35,14 +33,7 @@ def run(tree: Path, cache: Path, out: Path) -> tuple[float, float]:
     for key in ("WEC_COSIM_NO_JIT", "WEC_COSIM_NUMBA_CACHE"):
         env.pop(key, None)
     cmd = [sys.executable, "-m", "wec_cosim.cli", "run", SCENARIO, "--out", str(out)]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=tree, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if proc.returncode:
-        raise RuntimeError(f"{' '.join(cmd)} in {tree} failed:\n{proc.stderr[-2000:]}")
-    return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+    return timed_child(cmd, tree, env)
 
 
 def main() -> None:

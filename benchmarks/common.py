@@ -54,6 +54,21 @@ def run_with_current_library(ref: str, script: str, args: list[str]) -> int:
                               cwd=tree / "benchmarks").returncode
 
 
+def timed_child(cmd: list[str], cwd: str | Path, env: dict[str, str]) -> tuple[float, float]:
+    """(wall seconds, user + system CPU seconds) of one child process ``cmd``; a failure raises with its stderr."""
+    import resource
+    import time
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode:
+        raise RuntimeError(f"{' '.join(cmd)} in {cwd} failed:\n{proc.stderr[-2000:]}")
+    return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+
+
 def report_header(script: str, versions: str = "") -> list[str]:
     """The first lines of a benchmark record: the command that produced it, then the machine, Python, the
     ``versions`` given, the git commit and the load at the start."""
